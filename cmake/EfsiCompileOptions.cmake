@@ -1,0 +1,13 @@
+# Warnings and tuning shared by every target through the efsi_options interface.
+add_library(efsi_options INTERFACE)
+target_compile_options(efsi_options INTERFACE
+  -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
+  $<$<CONFIG:Release,RelWithDebInfo>:-O3>)
+if(EFSI_NATIVE)
+  target_compile_options(efsi_options INTERFACE -march=native)
+endif()
+if(EFSI_SANITIZE)
+  target_compile_options(efsi_options INTERFACE
+    -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  target_link_options(efsi_options INTERFACE -fsanitize=address,undefined)
+endif()

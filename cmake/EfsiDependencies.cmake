@@ -1,0 +1,39 @@
+# Every dependency comes from a Debian 12 package.  A missing one stops the
+# configure step with the name of the package that provides it.
+
+macro(efsi_require found_var what debian_pkg)
+  if(NOT ${found_var})
+    message(FATAL_ERROR
+      "${what} not found: install it with 'apt-get install ${debian_pkg}' "
+      "(or run ci/install-deps.sh)")
+  endif()
+endmacro()
+
+find_package(MPI COMPONENTS C CXX)
+efsi_require(MPI_CXX_FOUND "MPI (C++ bindings)" "libopenmpi-dev openmpi-bin")
+
+find_package(OpenMP COMPONENTS CXX)
+efsi_require(OpenMP_CXX_FOUND "OpenMP" "libgomp1 (part of g++)")
+
+find_package(PkgConfig)
+efsi_require(PKG_CONFIG_FOUND "pkg-config" "pkg-config")
+pkg_check_modules(FFTW3 IMPORTED_TARGET fftw3)
+efsi_require(FFTW3_FOUND "FFTW3 (double precision)" "libfftw3-dev")
+# FFTW's OpenMP-threaded library has no .pc file of its own; it sits beside libfftw3.
+find_library(FFTW3_OMP_LIBRARY NAMES fftw3_omp HINTS ${FFTW3_LIBRARY_DIRS})
+efsi_require(FFTW3_OMP_LIBRARY "FFTW3 OpenMP library (libfftw3_omp)" "libfftw3-dev")
+add_library(efsi_fftw INTERFACE)
+target_link_libraries(efsi_fftw INTERFACE ${FFTW3_OMP_LIBRARY} PkgConfig::FFTW3 OpenMP::OpenMP_CXX)
+
+find_package(CLI11 CONFIG)
+efsi_require(CLI11_FOUND "CLI11" "libcli11-dev")
+
+if(EFSI_BUILD_TESTS)
+  find_package(GTest CONFIG)
+  efsi_require(GTest_FOUND "GoogleTest" "libgtest-dev googletest")
+endif()
+
+if(EFSI_BUILD_BENCHMARKS)
+  find_package(benchmark CONFIG)
+  efsi_require(benchmark_FOUND "Google Benchmark" "libbenchmark-dev")
+endif()

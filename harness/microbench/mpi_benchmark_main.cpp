@@ -1,0 +1,36 @@
+#include <benchmark/benchmark.h>
+#include <mpi.h>
+
+#include "mpi_benchmark.hpp"
+#include "runtime.hpp"
+
+namespace efsi::bench {
+namespace {
+
+class NullReporter : public benchmark::BenchmarkReporter {
+ public:
+  bool ReportContext(const Context&) override { return true; }
+  void ReportRuns(const std::vector<Run>&) override {}
+};
+
+}  // namespace
+
+int run_main(int argc, char** argv) {
+  efsi::Runtime runtime(argc, argv);
+  benchmark::Initialize(&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
+  int nranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &nranks);
+  benchmark::AddCustomContext("mpi_ranks", std::to_string(nranks));
+  benchmark::AddCustomContext("omp_threads", std::to_string(efsi::max_threads()));
+  if (runtime.rank() == 0) {
+    benchmark::RunSpecifiedBenchmarks();
+  } else {
+    NullReporter display, file;
+    benchmark::RunSpecifiedBenchmarks(&display, &file);
+  }
+  benchmark::Shutdown();
+  return 0;
+}
+
+}  // namespace efsi::bench

@@ -1,0 +1,15 @@
+#pragma once
+// A set-up that cannot run: bad decomposition, undersized block, dt over a limit, ...
+// Thrown identically on every rank before any collective call, so no rank waits on
+// another; drivers print what() as one line and exit with status 2.
+#include <stdexcept>
+#include <string>
+
+namespace efsi {
+
+class ConfigError : public std::runtime_error {
+ public:
+  explicit ConfigError(const std::string& what) : std::runtime_error(what) {}
+};
+
+}  // namespace efsi

@@ -1,0 +1,49 @@
+#pragma once
+// Cartesian decomposition of the global cell grid: periodic in x and z, walls in y.
+#include <mpi.h>
+
+#include "grid_types.hpp"
+
+namespace efsi {
+
+// Chooses PX x PY x PZ for `ranks` ranks.  Entries of `forced` that are > 0 are kept.
+// Starts from MPI_Dims_create; when its answer does not divide the grid, takes the
+// dividing factorisation with the smallest halo surface.  Throws ConfigError naming the
+// numbers when no decomposition fits (product mismatch, grid not divisible, local block
+// thinner than `min_block`).  Pure and deterministic: every rank reaches the same verdict.
+Int3 choose_dims(int ranks, const Int3& global_cells, int min_block, const Int3& forced = {0, 0, 0});
+
+class CartDecomposition {
+ public:
+  // Collective over `comm`.  Validation happens before any communication, so a bad
+  // set-up throws ConfigError on every rank and nobody hangs.
+  CartDecomposition(MPI_Comm comm, const Int3& global_cells, int min_block,
+                    const Int3& forced = {0, 0, 0});
+  ~CartDecomposition();
+  CartDecomposition(const CartDecomposition&) = delete;
+  CartDecomposition& operator=(const CartDecomposition&) = delete;
+
+  MPI_Comm comm() const { return cart_; }
+  int rank() const { return rank_; }
+  int size() const { return size_; }
+  const Int3& dims() const { return dims_; }
+  const Int3& coords() const { return coords_; }
+  const Int3& global() const { return global_; }
+  const Int3& local() const { return local_; }
+  // Global index of the first owned cell along each axis.
+  const Int3& offset() const { return offset_; }
+
+  bool wall_below() const { return coords_[Y] == 0; }
+  bool wall_above() const { return coords_[Y] == dims_[Y] - 1; }
+
+  // Rank at coords + step (each component in {-1, 0, 1}); MPI_PROC_NULL across a wall.
+  int neighbour(const Int3& step) const;
+
+ private:
+  MPI_Comm cart_ = MPI_COMM_NULL;
+  int rank_ = 0;
+  int size_ = 1;
+  Int3 dims_{}, coords_{}, global_{}, local_{}, offset_{};
+};
+
+}  // namespace efsi

@@ -1,0 +1,62 @@
+#include "field.hpp"
+
+#include <cstdlib>
+#include <new>
+
+#include "config_error.hpp"
+
+namespace efsi {
+namespace {
+
+std::ptrdiff_t round_up(std::ptrdiff_t v, std::ptrdiff_t m) { return (v + m - 1) / m * m; }
+
+}  // namespace
+
+const char* to_string(Stagger s) {
+  switch (s) {
+    case Stagger::cell: return "cell";
+    case Stagger::face_x: return "face_x";
+    case Stagger::face_y: return "face_y";
+    case Stagger::face_z: return "face_z";
+    case Stagger::edge_xy: return "edge_xy";
+    case Stagger::edge_xz: return "edge_xz";
+    case Stagger::edge_yz: return "edge_yz";
+  }
+  return "?";
+}
+
+void Field::Free::operator()(double* p) const noexcept { std::free(p); }
+
+Field::Field(const CartDecomposition& decomp, FieldSpec spec)
+    : spec_(std::move(spec)), n_(decomp.local()), owned_end_(decomp.local()), offset_(decomp.offset()) {
+  const int h = spec_.halo;
+  if (h < 1) throw ConfigError("field " + spec_.name + ": halo width " + std::to_string(h) + " must be at least 1");
+  for (int a = 0; a < 3; ++a)
+    if (n_[a] < h)
+      throw ConfigError("field " + spec_.name + ": local block " + to_string(n_) + " is thinner than its halo width " +
+                        std::to_string(h));
+  if (is_staggered(spec_.stagger, Y) && decomp.wall_above()) owned_end_[Y] = n_[Y] + 1;
+
+  // Leading pad so that i = 0 is aligned; rows a multiple of the alignment.
+  const std::ptrdiff_t xpad = round_up(h, kAlignDoubles);
+  sy_ = round_up(xpad + n_[X] + h, kAlignDoubles);
+  const std::ptrdiff_t rows = n_[Y] + 2 * h;
+  sz_ = sy_ * rows;
+  size_ = static_cast<std::size_t>(sz_ * (n_[Z] + 2 * h));
+  origin_ = xpad + sy_ * h + sz_ * h;
+
+  const std::size_t bytes = static_cast<std::size_t>(round_up(std::ptrdiff_t(size_ * sizeof(double)), 64));
+  data_.reset(static_cast<double*>(std::aligned_alloc(64, bytes)));
+  if (!data_) throw std::bad_alloc();
+  fill(0.0);  // first touch by the threads that will work on the data
+}
+
+void Field::fill(double value) {
+  double* d = data_.get();
+  const std::ptrdiff_t planes = n_[Z] + 2 * spec_.halo;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < planes; ++k)
+    for (std::ptrdiff_t m = 0; m < sz_; ++m) d[k * sz_ + m] = value;
+}
+
+}  // namespace efsi

@@ -1,0 +1,256 @@
+#include "halo_exchange.hpp"
+
+#include <climits>
+#include <cstring>
+#include <stdexcept>
+
+#include "config_error.hpp"
+
+namespace efsi {
+namespace {
+
+constexpr int kSelf = 13;
+Int3 step_of(int d) { return {d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1}; }
+int opposite(int d) { return 26 - d; }
+
+struct Box {
+  Int3 lo, hi;  // half-open
+};
+
+// Points this rank sends towards `s` (its own boundary planes) ...
+Box send_box(const Field& f, const Int3& s) {
+  Box b;
+  const int h = f.halo();
+  for (int a = 0; a < 3; ++a) {
+    const int n = f.n()[a];
+    if (s[a] == 0) b.lo[a] = 0, b.hi[a] = f.owned_end(a);
+    else if (s[a] > 0) b.lo[a] = n - h, b.hi[a] = n;
+    else b.lo[a] = 0, b.hi[a] = h;
+  }
+  return b;
+}
+
+// ... and the ghosts it fills from the neighbour at `s`.
+Box recv_box(const Field& f, const Int3& s) {
+  Box b;
+  const int h = f.halo();
+  for (int a = 0; a < 3; ++a) {
+    const int n = f.n()[a];
+    if (s[a] == 0) b.lo[a] = 0, b.hi[a] = f.owned_end(a);
+    else if (s[a] > 0) b.lo[a] = n, b.hi[a] = n + h;
+    else b.lo[a] = -h, b.hi[a] = 0;
+  }
+  return b;
+}
+
+}  // namespace
+
+HaloExchange::HaloExchange(const CartDecomposition& decomp, std::vector<Field*> fields, Reach reach,
+                           RegionTimers* timers)
+    : fields_(std::move(fields)), reach_(reach), timers_(timers), self_(decomp.rank()), comm_(decomp.comm()) {
+  for (const Field* f : fields_) {
+    if (f->n() != decomp.local() || f->offset() != decomp.offset())
+      throw std::invalid_argument("HaloExchange: field " + f->name() + " belongs to another decomposition");
+  }
+  build_runs(decomp);
+  build_walls(decomp);
+  requests_.reserve(2 * kDirs);
+}
+
+void HaloExchange::build_runs(const CartDecomposition& decomp) {
+  std::size_t send_total = 0, recv_total = 0;
+  for (int d = 0; d < kDirs; ++d) {
+    peer_[d] = MPI_PROC_NULL;
+    if (d == kSelf) continue;
+    const Int3 s = step_of(d);
+    const int nonzero = (s[0] != 0) + (s[1] != 0) + (s[2] != 0);
+    if (reach_ == Reach::faces && nonzero > 1) continue;
+    peer_[d] = decomp.neighbour(s);
+    if (peer_[d] == MPI_PROC_NULL) continue;
+
+    send_off_[d] = send_total;
+    recv_off_[d] = recv_total;
+    for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
+      const Field& f = *fields_[fi];
+      auto add_runs = [&](const Box& b, std::vector<Run>& runs, std::size_t& total) {
+        const int len = b.hi[X] - b.lo[X];
+        for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
+          for (int j = b.lo[Y]; j < b.hi[Y]; ++j) {
+            runs.push_back(Run{fi, f.index(b.lo[X], j, k), len, total});
+            total += static_cast<std::size_t>(len);
+          }
+      };
+      add_runs(send_box(f, s), send_runs_, send_total);
+      add_runs(recv_box(f, s), recv_runs_, recv_total);
+    }
+    send_count_[d] = send_total - send_off_[d];
+    recv_count_[d] = recv_total - recv_off_[d];
+    if (send_count_[d] > static_cast<std::size_t>(INT_MAX))
+      throw ConfigError("halo message of " + std::to_string(send_count_[d]) +
+                        " values exceeds the MPI count limit " + std::to_string(INT_MAX));
+  }
+  for (int d = 0; d < kDirs; ++d) {
+    if (peer_[d] == MPI_PROC_NULL) continue;
+    if (peer_[d] == self_) {
+      if (recv_count_[d] != send_count_[opposite(d)])
+        throw std::logic_error("HaloExchange: self-copy sizes differ");
+      local_doubles_ += send_count_[d];
+    } else {
+      mpi_doubles_ += send_count_[d];
+      ++mpi_messages_;
+    }
+  }
+  send_buf_.assign(send_total, 0.0);
+  recv_buf_.assign(recv_total, 0.0);
+}
+
+void HaloExchange::build_walls(const CartDecomposition& decomp) {
+  for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
+    const Field& f = *fields_[fi];
+    const int h = f.halo();
+    const int ny = f.n()[Y];
+    const bool face = is_staggered(f.stagger(), Y);
+    const double sign = f.spec().parity == WallParity::odd ? -1.0 : 1.0;
+    // Ghost columns next to the wall are mirrored too when the exchange filled them.
+    const int ilo = reach_ == Reach::full ? -h : 0, ihi = f.n()[X] + (reach_ == Reach::full ? h : 0);
+    const int klo = reach_ == Reach::full ? -h : 0, khi = f.n()[Z] + (reach_ == Reach::full ? h : 0);
+    auto rows = [&](std::vector<WallRun>& out, int jdst, int jsrc, double sg) {
+      for (int k = klo; k < khi; ++k)
+        out.push_back(WallRun{fi, f.index(ilo, jdst, k), f.index(ilo, jsrc, k), ihi - ilo, sg});
+    };
+    // The wall face itself is zeroed across the whole plane, ghosts included: a neighbour
+    // may have sent its copy of the face before its own wall rule ran.
+    auto zero_plane = [&](int j) {
+      for (int k = -h; k < f.n()[Z] + h; ++k)
+        wall_zero_.push_back(WallRun{fi, f.index(-h, j, k), f.index(-h, j, k), f.n()[X] + 2 * h, 0.0});
+    };
+    const bool odd_face = face && f.spec().parity == WallParity::odd;
+    if (decomp.wall_below()) {
+      if (odd_face) zero_plane(0);
+      for (int m = 0; m < h; ++m) {
+        if (face) rows(wall_mirror_, -1 - m, 1 + m, sign);  // about the wall face j = 0
+        else rows(wall_mirror_, -1 - m, m, sign);           // about y = 0, between cells -1 and 0
+      }
+    }
+    if (decomp.wall_above()) {
+      if (odd_face) zero_plane(ny);
+      for (int m = 0; m < h; ++m) {
+        if (face) {
+          if (m + 1 < h) rows(wall_mirror_, ny + 1 + m, ny - 1 - m, sign);  // about the wall face j = ny
+        } else {
+          rows(wall_mirror_, ny + m, ny - 1 - m, sign);
+        }
+      }
+    }
+  }
+}
+
+void HaloExchange::pack() {
+  const std::size_t nr = send_runs_.size();
+  double* buf = send_buf_.data();
+  Field* const* f = fields_.data();
+#pragma omp parallel for schedule(static)
+  for (std::size_t r = 0; r < nr; ++r) {
+    const Run& run = send_runs_[r];
+    std::memcpy(buf + run.buf, f[run.field]->data() + run.index, sizeof(double) * run.len);
+  }
+}
+
+void HaloExchange::copy_self() {
+  for (int d = 0; d < kDirs; ++d)
+    if (peer_[d] == self_ && peer_[d] != MPI_PROC_NULL)
+      std::memcpy(recv_buf_.data() + recv_off_[d], send_buf_.data() + send_off_[opposite(d)],
+                  sizeof(double) * recv_count_[d]);
+}
+
+void HaloExchange::unpack_and_walls() {
+  RegionTimers::Scope t(timers_, Region::halo_unpack);
+  Field* const* f = fields_.data();
+  const double* buf = recv_buf_.data();
+  const std::size_t nr = recv_runs_.size(), nz = wall_zero_.size(), nm = wall_mirror_.size();
+#pragma omp parallel
+  {
+#pragma omp for schedule(static)
+    for (std::size_t r = 0; r < nr; ++r) {
+      const Run& run = recv_runs_[r];
+      std::memcpy(f[run.field]->data() + run.index, buf + run.buf, sizeof(double) * run.len);
+    }
+    // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
+    // the bottom ghosts from the top wall face).
+#pragma omp for schedule(static)
+    for (std::size_t r = 0; r < nz; ++r) {
+      const WallRun& w = wall_zero_[r];
+      double* d = f[w.field]->data() + w.dst;
+      for (int i = 0; i < w.len; ++i) d[i] = 0.0;
+    }
+#pragma omp for schedule(static)
+    for (std::size_t r = 0; r < nm; ++r) {
+      const WallRun& w = wall_mirror_[r];
+      double* base = f[w.field]->data();
+      for (int i = 0; i < w.len; ++i) base[w.dst + i] = w.sign * base[w.src + i];
+    }
+  }
+}
+
+void HaloExchange::exchange() {
+  if (in_flight_) throw std::logic_error("HaloExchange::exchange while an async exchange is in flight");
+  {
+    RegionTimers::Scope t(timers_, Region::halo_pack);
+    pack();
+    copy_self();
+  }
+  {
+    RegionTimers::Scope t(timers_, Region::halo_mpi);
+    for (int d = 0; d < kDirs; ++d) {
+      if (d == kSelf) continue;
+      const int back = opposite(d);
+      const int dest = peer_[d] == self_ ? MPI_PROC_NULL : peer_[d];
+      const int src = peer_[back] == self_ ? MPI_PROC_NULL : peer_[back];
+      if (dest == MPI_PROC_NULL && src == MPI_PROC_NULL) continue;
+      // Tag = direction of travel as the sender sees it.
+      MPI_Sendrecv(send_buf_.data() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, dest, d,
+                   recv_buf_.data() + recv_off_[back], static_cast<int>(recv_count_[back]), MPI_DOUBLE, src, d,
+                   comm_, MPI_STATUS_IGNORE);
+    }
+  }
+  unpack_and_walls();
+}
+
+void HaloExchange::begin() {
+  if (in_flight_) throw std::logic_error("HaloExchange::begin twice without finish");
+  in_flight_ = true;
+  requests_.clear();
+  {
+    RegionTimers::Scope t(timers_, Region::halo_mpi);
+    for (int d = 0; d < kDirs; ++d) {
+      if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
+      requests_.emplace_back();
+      MPI_Irecv(recv_buf_.data() + recv_off_[d], static_cast<int>(recv_count_[d]), MPI_DOUBLE, peer_[d],
+                opposite(d), comm_, &requests_.back());
+    }
+  }
+  {
+    RegionTimers::Scope t(timers_, Region::halo_pack);
+    pack();
+    copy_self();
+  }
+  RegionTimers::Scope t(timers_, Region::halo_mpi);
+  for (int d = 0; d < kDirs; ++d) {
+    if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
+    requests_.emplace_back();
+    MPI_Isend(send_buf_.data() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, peer_[d], d, comm_,
+              &requests_.back());
+  }
+}
+
+void HaloExchange::finish() {
+  if (!in_flight_) throw std::logic_error("HaloExchange::finish without begin");
+  {
+    RegionTimers::Scope t(timers_, Region::halo_mpi);
+    MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
+  }
+  in_flight_ = false;
+  unpack_and_walls();
+}
+
+}  // namespace efsi

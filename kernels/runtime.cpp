@@ -1,0 +1,36 @@
+#include "runtime.hpp"
+
+#include <mpi.h>
+#include <omp.h>
+
+#include <cstdio>
+#include <cstdlib>
+
+namespace efsi {
+
+Runtime::Runtime(int& argc, char**& argv, int threads) {
+  MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided_);
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
+  MPI_Comm_size(MPI_COMM_WORLD, &size_);
+  if (provided_ < MPI_THREAD_FUNNELED) {
+    if (rank_ == 0)
+      std::fprintf(stderr, "error: the MPI library gives thread level %d, below MPI_THREAD_FUNNELED (%d)\n",
+                   provided_, MPI_THREAD_FUNNELED);
+    MPI_Abort(MPI_COMM_WORLD, 2);
+  }
+  set_threads(threads);
+}
+
+Runtime::~Runtime() {
+  int finalized = 0;
+  MPI_Finalized(&finalized);
+  if (!finalized) MPI_Finalize();
+}
+
+void set_threads(int threads) {
+  if (threads > 0) omp_set_num_threads(threads);
+}
+
+int max_threads() { return omp_get_max_threads(); }
+
+}  // namespace efsi

@@ -1,0 +1,130 @@
+// The Cartesian decomposition: choice of PX x PY x PZ, local blocks, neighbours, and
+// clear errors (on every rank, without hanging) for set-ups that cannot work.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <string>
+
+#include "config_error.hpp"
+#include "decomposition.hpp"
+
+using efsi::CartDecomposition;
+using efsi::ConfigError;
+using efsi::Int3;
+
+namespace {
+
+int world_size() {
+  int n = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &n);
+  return n;
+}
+
+// Runs f, which must throw ConfigError, and returns its message.
+template <class F>
+std::string config_error_of(F&& f) {
+  try {
+    f();
+  } catch (const ConfigError& e) {
+    return e.what();
+  }
+  return "<no ConfigError thrown>";
+}
+
+}  // namespace
+
+TEST(ChooseDims, FollowsMpiDimsCreateWhenItDivides) {
+  EXPECT_EQ(efsi::choose_dims(8, {64, 64, 64}, 3), (Int3{2, 2, 2}));
+  EXPECT_EQ(efsi::choose_dims(1, {10, 12, 14}, 3), (Int3{1, 1, 1}));
+  // The paper's strong-scaling grid on 8192 ranks: 64^3 cells per rank.
+  const Int3 d = efsi::choose_dims(8192, {2048, 1024, 1024}, 3);
+  EXPECT_EQ(efsi::product(d), 8192);
+  EXPECT_EQ(2048LL / d[0] * (1024 / d[1]) * (1024 / d[2]), 2048LL * 1024 * 1024 / 8192);
+}
+
+TEST(ChooseDims, FallsBackToADividingFactorisation) {
+  // MPI_Dims_create(6) gives 3x2x1, but 3 divides only nz here.
+  const Int3 d = efsi::choose_dims(6, {16, 16, 48}, 3);
+  EXPECT_EQ(efsi::product(d), 6);
+  for (int a = 0; a < 3; ++a) EXPECT_EQ((Int3{16, 16, 48})[a] % d[a], 0) << "axis " << a;
+  EXPECT_EQ(d[2] % 3, 0);
+}
+
+TEST(ChooseDims, KeepsForcedEntries) {
+  EXPECT_EQ(efsi::choose_dims(8, {64, 64, 64}, 3, {8, 1, 1}), (Int3{8, 1, 1}));
+  EXPECT_EQ(efsi::choose_dims(8, {64, 64, 64}, 3, {0, 1, 0})[1], 1);
+}
+
+TEST(ChooseDims, RejectsForcedProductMismatch) {
+  const std::string m = config_error_of([] { efsi::choose_dims(4, {64, 64, 64}, 3, {3, 1, 1}); });
+  EXPECT_NE(m.find("3x1x1"), std::string::npos) << m;
+  EXPECT_NE(m.find("needs 3 ranks but 4"), std::string::npos) << m;
+}
+
+TEST(ChooseDims, RejectsForcedNonDividing) {
+  const std::string m = config_error_of([] { efsi::choose_dims(3, {64, 64, 64}, 3, {3, 1, 1}); });
+  EXPECT_NE(m.find("Nx=64 is not a multiple of Px=3"), std::string::npos) << m;
+}
+
+TEST(ChooseDims, RejectsBlockThinnerThanHalo) {
+  const std::string m = config_error_of([] { efsi::choose_dims(8, {16, 16, 16}, 3, {8, 1, 1}); });
+  EXPECT_NE(m.find("local block is 2 cells in x"), std::string::npos) << m;
+  EXPECT_NE(m.find("halo width 3"), std::string::npos) << m;
+}
+
+TEST(ChooseDims, RejectsWhenNothingFits) {
+  // 7 ranks, no axis a multiple of 7.
+  const std::string m = config_error_of([] { efsi::choose_dims(7, {16, 16, 16}, 3); });
+  EXPECT_NE(m.find("no decomposition of 7 ranks fits grid 16x16x16"), std::string::npos) << m;
+}
+
+TEST(CartDecomposition, BlocksTileTheGridAndNeighboursWrap) {
+  const int p = world_size();
+  const Int3 global{12 * p, 24, 12};
+  CartDecomposition dec(MPI_COMM_WORLD, global, 3, {p, 1, 1});
+  EXPECT_EQ(dec.local(), (Int3{12, 24, 12}));
+  EXPECT_EQ(dec.offset()[0], 12 * dec.coords()[0]);
+  EXPECT_TRUE(dec.wall_below());
+  EXPECT_TRUE(dec.wall_above());
+  EXPECT_EQ(dec.neighbour({0, 1, 0}), MPI_PROC_NULL);
+  EXPECT_EQ(dec.neighbour({0, -1, 0}), MPI_PROC_NULL);
+  EXPECT_EQ(dec.neighbour({0, 0, 1}), dec.rank());  // pz = 1: its own neighbour
+  int right = -1;
+  Int3 c = dec.coords();
+  c[0] = (c[0] + 1) % p;
+  MPI_Cart_rank(dec.comm(), c.data(), &right);
+  EXPECT_EQ(dec.neighbour({1, 0, 0}), right);
+
+  // Sum of local volumes equals the global volume.
+  long long v = efsi::product(dec.local()), total = 0;
+  MPI_Allreduce(&v, &total, 1, MPI_LONG_LONG, MPI_SUM, dec.comm());
+  EXPECT_EQ(total, efsi::product(global));
+}
+
+TEST(CartDecomposition, WallsOnlyAtTheOuterRanksInY) {
+  const int p = world_size();
+  CartDecomposition dec(MPI_COMM_WORLD, {6, 6 * p, 6}, 3, {1, p, 1});
+  EXPECT_EQ(dec.wall_below(), dec.coords()[1] == 0);
+  EXPECT_EQ(dec.wall_above(), dec.coords()[1] == p - 1);
+  EXPECT_EQ(dec.neighbour({0, -1, 0}) == MPI_PROC_NULL, dec.wall_below());
+  EXPECT_EQ(dec.neighbour({0, 1, 0}) == MPI_PROC_NULL, dec.wall_above());
+}
+
+// Every rank must throw the same error before any collective call; the barrier after it
+// would hang (and the CTest timeout fail the test) if one rank went on.
+TEST(CartDecomposition, BadSetUpThrowsOnEveryRankWithoutHanging) {
+  const int p = world_size();
+  const std::string bad_product =
+      config_error_of([&] { CartDecomposition d(MPI_COMM_WORLD, {64, 64, 64}, 3, {p + 1, 1, 1}); });
+  EXPECT_NE(bad_product.find("needs " + std::to_string(p + 1) + " ranks"), std::string::npos) << bad_product;
+
+  const std::string thin = config_error_of([&] { CartDecomposition d(MPI_COMM_WORLD, {2 * p, 6, 6}, 3, {p, 1, 1}); });
+  EXPECT_NE(thin.find("thinner than the halo width 3"), std::string::npos) << thin;
+
+  if (p > 1) {
+    const std::string indivisible =
+        config_error_of([&] { CartDecomposition d(MPI_COMM_WORLD, {64 * p + 1, 64, 64}, 3, {p, 1, 1}); });
+    EXPECT_NE(indivisible.find("is not a multiple of Px=" + std::to_string(p)), std::string::npos) << indivisible;
+  }
+  MPI_Barrier(MPI_COMM_WORLD);
+}

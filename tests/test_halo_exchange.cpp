@@ -1,0 +1,193 @@
+// The batched halo exchange, on every decomposition the started rank count can make of a
+// small grid: after an exchange every ghost of every staggering, halo width and wall
+// parity equals the global field (periodic in x and z) or the wall rule (mirror in y);
+// sync and async leave bitwise identical fields.
+#include <gtest/gtest.h>
+#include <mpi.h>
+
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <vector>
+
+#include "decomposition.hpp"
+#include "field.hpp"
+#include "halo_exchange.hpp"
+
+using namespace efsi;
+
+namespace {
+
+const Int3 kGlobal{24, 48, 24};  // divisible by 1, 2, 3, 4, 6 and 8 on every axis, >= 3 per rank
+constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+std::vector<Int3> all_decompositions(int p) {
+  std::vector<Int3> out;
+  for (int px = 1; px <= p; ++px)
+    for (int py = 1; py <= p; ++py)
+      if (p % (px * py) == 0) out.push_back({px, py, p / (px * py)});
+  return out;
+}
+
+std::vector<FieldSpec> test_specs() {
+  // The eleven FSI fields with their real layout ...
+  std::vector<FieldSpec> s = {
+      {"u", Stagger::face_x, 1, WallParity::odd},        {"v", Stagger::face_y, 1, WallParity::odd},
+      {"w", Stagger::face_z, 1, WallParity::odd},        {"p", Stagger::cell, 1, WallParity::even},
+      {"phi", Stagger::cell, 3, WallParity::even},       {"Bt11", Stagger::cell, 3, WallParity::even},
+      {"Bt22", Stagger::cell, 3, WallParity::even},      {"Bt33", Stagger::cell, 3, WallParity::even},
+      {"Bt12", Stagger::edge_xy, 3, WallParity::even},   {"Bt13", Stagger::edge_xz, 3, WallParity::even},
+      {"Bt23", Stagger::edge_yz, 3, WallParity::even},
+  };
+  // ... and every other combination of staggering, width and parity.
+  const Stagger all[] = {Stagger::cell,    Stagger::face_x,  Stagger::face_y, Stagger::face_z,
+                         Stagger::edge_xy, Stagger::edge_xz, Stagger::edge_yz};
+  for (Stagger st : all)
+    for (int h : {1, 2, 3})
+      for (WallParity par : {WallParity::even, WallParity::odd})
+        s.push_back({std::string(to_string(st)) + "_h" + std::to_string(h) + (par == WallParity::odd ? "_odd" : "_even"),
+                     st, h, par});
+  return s;
+}
+
+// Exact in double: distinct integers for every (field, point).
+double formula(int fid, int gi, int gj, int gk) { return 1.0 + fid + 64.0 * (gi + 64.0 * (gj + 64.0 * gk)); }
+
+int wrap(int g, int n) { return ((g % n) + n) % n; }
+
+// What a point at global index (gi, gj, gk) must hold: periodic in x and z, wall rule in y.
+double expected(const Field& f, int fid, int gi, int gj, int gk) {
+  gi = wrap(gi, kGlobal[X]);
+  gk = wrap(gk, kGlobal[Z]);
+  const int ny = kGlobal[Y];
+  const bool odd = f.spec().parity == WallParity::odd;
+  const double sign = odd ? -1.0 : 1.0;
+  double s = 1.0;
+  if (is_staggered(f.stagger(), Y)) {
+    if (gj < 0) gj = -gj, s = sign;
+    else if (gj > ny) gj = 2 * ny - gj, s = sign;
+    if (odd && (gj == 0 || gj == ny)) return 0.0;
+  } else {
+    if (gj < 0) gj = -1 - gj, s = sign;
+    else if (gj >= ny) gj = 2 * ny - 1 - gj, s = sign;
+  }
+  return s * formula(fid, gi, gj, gk);
+}
+
+struct FieldSet {
+  std::vector<std::unique_ptr<Field>> owned;
+  std::vector<Field*> ptrs;
+  FieldSet(const CartDecomposition& dec, const std::vector<FieldSpec>& specs) {
+    for (const auto& s : specs) {
+      owned.push_back(std::make_unique<Field>(dec, s));
+      ptrs.push_back(owned.back().get());
+    }
+    for (int fid = 0; fid < static_cast<int>(ptrs.size()); ++fid) {
+      Field& f = *ptrs[fid];
+      f.fill(kUnset);
+      for (int k = 0; k < f.owned_end(Z); ++k)
+        for (int j = 0; j < f.owned_end(Y); ++j)
+          for (int i = 0; i < f.owned_end(X); ++i)
+            f(i, j, k) = formula(fid, f.offset()[X] + i, f.offset()[Y] + j, f.offset()[Z] + k);
+    }
+  }
+};
+
+bool inside(const Field& f, int a, int i) { return i >= 0 && i < f.owned_end(a); }
+
+// Counts wrong points among those the reach must fill (all, or owned plus face ghosts).
+long long count_wrong(const FieldSet& set, Reach reach, const std::string& where) {
+  long long wrong = 0;
+  for (int fid = 0; fid < static_cast<int>(set.ptrs.size()); ++fid) {
+    const Field& f = *set.ptrs[fid];
+    const int h = f.halo();
+    for (int k = -h; k < f.n()[Z] + h; ++k)
+      for (int j = -h; j < f.n()[Y] + h; ++j)
+        for (int i = -h; i < f.n()[X] + h; ++i) {
+          const int outside = !inside(f, X, i) + !inside(f, Y, j) + !inside(f, Z, k);
+          if (reach == Reach::faces && outside > 1) continue;
+          const double want = expected(f, fid, f.offset()[X] + i, f.offset()[Y] + j, f.offset()[Z] + k);
+          const double got = f(i, j, k);
+          if (!(got == want)) {
+            if (wrong < 3)
+              ADD_FAILURE() << where << " field " << f.name() << " at local (" << i << "," << j << "," << k
+                            << "): got " << got << ", want " << want;
+            ++wrong;
+          }
+        }
+  }
+  return wrong;
+}
+
+bool bitwise_equal(const FieldSet& a, const FieldSet& b) {
+  for (std::size_t n = 0; n < a.ptrs.size(); ++n)
+    if (std::memcmp(a.ptrs[n]->data(), b.ptrs[n]->data(), a.ptrs[n]->allocated() * sizeof(double)) != 0)
+      return false;
+  return true;
+}
+
+void check_all_decompositions(Reach reach) {
+  int p = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
+  const auto specs = test_specs();
+  for (const Int3& dims : all_decompositions(p)) {
+    CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
+    const std::string where = "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank());
+
+    FieldSet sync_set(dec, specs), async_set(dec, specs);
+    HaloExchange sync_x(dec, sync_set.ptrs, reach);
+    HaloExchange async_x(dec, async_set.ptrs, reach);
+    sync_x.exchange();
+    async_x.begin();
+    async_x.finish();
+
+    EXPECT_EQ(count_wrong(sync_set, reach, where + " sync"), 0);
+    EXPECT_EQ(count_wrong(async_set, reach, where + " async"), 0);
+    EXPECT_TRUE(bitwise_equal(sync_set, async_set)) << where;
+
+    // A second exchange of already-consistent fields changes nothing.
+    async_x.begin();
+    async_x.finish();
+    EXPECT_TRUE(bitwise_equal(sync_set, async_set)) << where << " after a second exchange";
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+}
+
+}  // namespace
+
+TEST(HaloExchange, FullReachFillsEveryGhostOnEveryDecomposition) { check_all_decompositions(Reach::full); }
+
+TEST(HaloExchange, FaceReachFillsFaceGhostsOnEveryDecomposition) { check_all_decompositions(Reach::faces); }
+
+TEST(HaloExchange, SingleRankCopiesLocallyWithoutMessages) {
+  int p = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
+  CartDecomposition dec(MPI_COMM_WORLD, {8 * p, 8, 8}, 3, {p, 1, 1});
+  Field a(dec, {"a", Stagger::cell, 3, WallParity::even});
+  HaloExchange x(dec, {&a});
+  if (p == 1) {
+    EXPECT_EQ(x.messages_sent(), 0);
+    EXPECT_EQ(x.bytes_sent_mpi(), 0u);
+  } else {
+    EXPECT_GT(x.messages_sent(), 0);
+  }
+  // 8^3 block, halo 3, walls in y, so only the 8 directions with no y step carry data:
+  // x faces 3*8*8, z faces 8*8*3, xz edges 3*8*3 values each.  pz = 1 makes the z faces
+  // (and, when px = 1 too, everything) a copy to itself.
+  const std::size_t z_faces = 2 * 192, all = 2 * 192 + 2 * 192 + 4 * 72;
+  EXPECT_EQ(x.bytes_copied_local(), (p == 1 ? all : z_faces) * sizeof(double));
+  EXPECT_EQ(x.bytes_sent_mpi(), (p == 1 ? 0 : all - z_faces) * sizeof(double));
+}
+
+TEST(HaloExchange, MessageCountMatchesNeighbourDirections) {
+  int p = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
+  if (p != 8) GTEST_SKIP() << "needs 8 ranks as 2x2x2";
+  CartDecomposition dec(MPI_COMM_WORLD, {8, 8, 8}, 3, {2, 2, 2});
+  Field a(dec, {"a", Stagger::cell, 1, WallParity::even});
+  HaloExchange full(dec, {&a}, Reach::full), faces(dec, {&a}, Reach::faces);
+  // One y side is a wall: 26 - 9 directions cross it, 17 remain; faces: 6 - 1 = 5.
+  EXPECT_EQ(full.messages_sent(), 17);
+  EXPECT_EQ(faces.messages_sent(), 5);
+}
