@@ -10,6 +10,24 @@ namespace efsi {
 namespace {
 
 constexpr int kSelf = 13;
+// x-face runs are only halo-wide (1 to 3 values): a call to memcpy per run would cost
+// more than the copy itself.
+inline void copy_run(double* __restrict dst, const double* __restrict src, int len) {
+  if (len <= 4) {
+    for (int i = 0; i < len; ++i) dst[i] = src[i];
+  } else {
+    std::memcpy(dst, src, sizeof(double) * static_cast<std::size_t>(len));
+  }
+}
+
+template <bool kToBuffer>
+inline void copy_block(double* field, double* buf, int len, int rows, std::ptrdiff_t stride) {
+  for (int m = 0; m < rows; ++m, field += stride, buf += len) {
+    if constexpr (kToBuffer) copy_run(buf, field, len);
+    else copy_run(field, buf, len);
+  }
+}
+
 Int3 step_of(int d) { return {d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1}; }
 int opposite(int d) { return 26 - d; }
 
@@ -73,12 +91,11 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
     for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
       const Field& f = *fields_[fi];
       auto add_runs = [&](const Box& b, std::vector<Run>& runs, std::size_t& total) {
-        const int len = b.hi[X] - b.lo[X];
-        for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
-          for (int j = b.lo[Y]; j < b.hi[Y]; ++j) {
-            runs.push_back(Run{fi, f.index(b.lo[X], j, k), len, total});
-            total += static_cast<std::size_t>(len);
-          }
+        const int len = b.hi[X] - b.lo[X], rows = b.hi[Y] - b.lo[Y];
+        for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
+          runs.push_back(Run{fi, len, rows, f.index(b.lo[X], b.lo[Y], k), f.stride_y(), total});
+          total += static_cast<std::size_t>(len) * static_cast<std::size_t>(rows);
+        }
       };
       add_runs(send_box(f, s), send_runs_, send_total);
       add_runs(recv_box(f, s), recv_runs_, recv_total);
@@ -152,7 +169,7 @@ void HaloExchange::pack() {
 #pragma omp parallel for schedule(static)
   for (std::size_t r = 0; r < nr; ++r) {
     const Run& run = send_runs_[r];
-    std::memcpy(buf + run.buf, f[run.field]->data() + run.index, sizeof(double) * run.len);
+    copy_block<true>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
   }
 }
 
@@ -166,14 +183,14 @@ void HaloExchange::copy_self() {
 void HaloExchange::unpack_and_walls() {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
-  const double* buf = recv_buf_.data();
+  double* buf = recv_buf_.data();
   const std::size_t nr = recv_runs_.size(), nz = wall_zero_.size(), nm = wall_mirror_.size();
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (std::size_t r = 0; r < nr; ++r) {
       const Run& run = recv_runs_[r];
-      std::memcpy(f[run.field]->data() + run.index, buf + run.buf, sizeof(double) * run.len);
+      copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
     // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
     // the bottom ghosts from the top wall face).

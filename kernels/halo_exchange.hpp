@@ -49,11 +49,12 @@ class HaloExchange {
 
  private:
   static constexpr int kDirs = 27;  // index (sx+1) + 3 (sy+1) + 9 (sz+1); 13 is the rank itself
-  struct Run {      // one contiguous x-run of a field and its place in a buffer
+  struct Run {  // `rows` x-runs of `len` points, `stride` apart (one y-column of a box at fixed k)
     int field;
-    std::ptrdiff_t index;
     int len;
-    std::size_t buf;
+    int rows;
+    std::ptrdiff_t index, stride;
+    std::size_t buf;  // the runs lie back to back in the buffer from here
   };
   struct WallRun {  // dst = sign * src over len points (sign 0: set to zero)
     int field;

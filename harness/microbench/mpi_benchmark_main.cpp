@@ -1,6 +1,8 @@
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
+#include <cstring>
+
 #include "mpi_benchmark.hpp"
 #include "runtime.hpp"
 
@@ -17,6 +19,13 @@ class NullReporter : public benchmark::BenchmarkReporter {
 
 int run_main(int argc, char** argv) {
   efsi::Runtime runtime(argc, argv);
+  // Only rank 0 writes --benchmark_out; the others drop the option before parsing.
+  if (runtime.rank() != 0) {
+    int kept = 1;
+    for (int a = 1; a < argc; ++a)
+      if (std::strncmp(argv[a], "--benchmark_out", 15) != 0) argv[kept++] = argv[a];
+    argc = kept;
+  }
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 2;
   int nranks = 1;
@@ -26,8 +35,8 @@ int run_main(int argc, char** argv) {
   if (runtime.rank() == 0) {
     benchmark::RunSpecifiedBenchmarks();
   } else {
-    NullReporter display, file;
-    benchmark::RunSpecifiedBenchmarks(&display, &file);
+    NullReporter display;
+    benchmark::RunSpecifiedBenchmarks(&display);
   }
   benchmark::Shutdown();
   return 0;

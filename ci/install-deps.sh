@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages EFSI-Bench builds and runs with, only those missing.
+set -euo pipefail
+
+packages=(
+  g++ cmake make pkg-config          # toolchain
+  libopenmpi-dev openmpi-bin         # MPI
+  libfftw3-dev                       # FFTW3 (double, with libfftw3_omp)
+  libcli11-dev                       # command lines
+  libgtest-dev googletest            # tests
+  libbenchmark-dev                   # micro-benchmarks
+  python3 python3-matplotlib         # plots (Debian's python3 at /usr/bin/python3)
+  jube                               # cluster benchmark definitions
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+[ ${#missing[@]} -eq 0 ] && exit 0
+
+echo "installing: ${missing[*]}"
+sudo=""
+[ "$(id -u)" -ne 0 ] && sudo="sudo"
+$sudo apt-get update -qq
+DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"

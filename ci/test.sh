@@ -1,0 +1,11 @@
+#!/usr/bin/env bash
+# The README's test command: installs what is missing, builds, runs every test
+# (MPI tests on 1 to 8 ranks, oversubscribed on small machines).
+#   ci/test.sh            release build
+#   ci/test.sh debug      AddressSanitizer + UndefinedBehaviorSanitizer build
+set -euo pipefail
+cd "$(dirname "$0")/.."
+preset="${1:-release}"
+bash ci/install-deps.sh
+bash ci/build.sh "$preset"
+ctest --preset "$preset"
