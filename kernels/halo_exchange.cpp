@@ -31,10 +31,6 @@ inline void copy_block(double* field, double* buf, int len, int rows, std::ptrdi
 Int3 step_of(int d) { return {d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1}; }
 int opposite(int d) { return 26 - d; }
 
-struct Box {
-  Int3 lo, hi;  // half-open
-};
-
 // Points this rank sends towards `s` (its own boundary planes) ...
 Box send_box(const Field& f, const Int3& s) {
   Box b;

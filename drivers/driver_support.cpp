@@ -1,0 +1,83 @@
+#include "driver_support.hpp"
+
+#include <mpi.h>
+
+#include <cstdio>
+#include <sstream>
+
+#include "config_error.hpp"
+#include "runtime.hpp"
+#include "stepper.hpp"
+
+namespace efsi {
+namespace {
+
+template <class T, class Parse>
+std::array<T, 3> parse3(const std::string& text, const std::string& option, Parse parse) {
+  std::vector<std::string> parts;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) parts.push_back(item);
+  if (parts.size() != 1 && parts.size() != 3)
+    throw ConfigError(option + " '" + text + "': expected one value or three separated by commas");
+  std::array<T, 3> out{};
+  for (int a = 0; a < 3; ++a) {
+    const std::string& p = parts[parts.size() == 1 ? 0 : a];
+    try {
+      std::size_t used = 0;
+      out[a] = parse(p, &used);
+      if (used != p.size()) throw std::invalid_argument(p);
+    } catch (const std::exception&) {
+      throw ConfigError(option + " '" + text + "': '" + p + "' is not a number");
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Int3 parse_int3(const std::string& text, const std::string& option) {
+  const Int3 v = parse3<int>(text, option, [](const std::string& s, std::size_t* u) { return std::stoi(s, u); });
+  for (int a = 0; a < 3; ++a)
+    if (v[a] < 1) throw ConfigError(option + " '" + text + "': " + std::to_string(v[a]) + " must be at least 1");
+  return v;
+}
+
+std::array<double, 3> parse_double3(const std::string& text, const std::string& option) {
+  return parse3<double>(text, option, [](const std::string& s, std::size_t* u) { return std::stod(s, u); });
+}
+
+bool is_root() {
+  int r = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &r);
+  return r == 0;
+}
+
+int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
+  Runtime runtime(argc, argv);
+  const std::string name = app.get_name();
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    if (runtime.rank() == 0) std::fputs(app.help().c_str(), stdout);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    if (runtime.rank() == 0) std::fprintf(stderr, "%s: error: %s (see --help)\n", name.c_str(), e.what());
+    return 2;
+  }
+  try {
+    return body();
+  } catch (const ConfigError& e) {
+    if (runtime.rank() == 0) std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    return 2;
+  } catch (const BlowUp& e) {
+    if (runtime.rank() == 0) std::fprintf(stderr, "%s: %s; nothing recorded as valid\n", name.c_str(), e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "%s: error on rank %d: %s\n", name.c_str(), runtime.rank(), e.what());
+    MPI_Abort(MPI_COMM_WORLD, 1);
+    return 1;
+  }
+}
+
+}  // namespace efsi

@@ -1,0 +1,26 @@
+#pragma once
+// What every driver shares: MPI start-up, CLI11 parsing with one-line errors (exit 2),
+// "N or NX,NY,NZ" options, and the mapping of failures to exit codes.
+#include <CLI/CLI.hpp>
+
+#include <array>
+#include <functional>
+#include <string>
+
+#include "grid_types.hpp"
+
+namespace efsi {
+
+// "64" -> {64, 64, 64}; "128,64,64" -> as given. Throws ConfigError naming the option.
+Int3 parse_int3(const std::string& text, const std::string& option);
+std::array<double, 3> parse_double3(const std::string& text, const std::string& option);
+
+// Runs a driver: starts MPI; parses `app` (--help prints and exits 0; a bad option prints
+// one line and exits 2, on rank 0 only); then runs `body`. ConfigError -> one line, exit
+// 2; BlowUp -> one line, exit 3; anything else -> one line, exit 1.
+int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>& body);
+
+// Rank 0 of MPI_COMM_WORLD.
+bool is_root();
+
+}  // namespace efsi

@@ -1,0 +1,133 @@
+#include "run_record.hpp"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <ctime>
+#include <sstream>
+#include <stdexcept>
+#include <thread>
+
+#ifndef EFSI_GIT_SHA
+#define EFSI_GIT_SHA "unknown"
+#endif
+
+namespace efsi {
+namespace {
+
+std::string host_name() {
+  char buf[256] = "";
+  gethostname(buf, sizeof buf - 1);
+  return buf;
+}
+
+std::string mpi_library() {
+  char buf[MPI_MAX_LIBRARY_VERSION_STRING] = "";
+  int len = 0;
+  MPI_Get_library_version(buf, &len);
+  std::string s(buf, static_cast<std::size_t>(len));
+  const auto cut = s.find_first_of(",\n");
+  return s.substr(0, cut);
+}
+
+std::string utc_now() {
+  const std::time_t t = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+// No commas or newlines may reach a cell.
+std::string clean(std::string s) {
+  for (char& c : s)
+    if (c == ',' || c == '\n' || c == '\r') c = ' ';
+  return s;
+}
+
+std::string num(double v) {
+  char buf[40];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+}  // namespace
+
+const std::vector<std::string>& csv_columns() {
+  static const std::vector<std::string> cols = {
+      "experiment", "method",  "comm",        "eps",         "ranks",     "threads",   "px",
+      "py",         "pz",      "nx",          "ny",          "nz",        "particles", "steps",
+      "dt",         "ns_per_step", "nc_per_step", "elapsed_s", "compute_s", "halo_s",  "reduce_s",
+      "comm_s",     "comm_s_max", "comm_fraction", "mlups",  "div_rms",   "valid",     "host",
+      "mpi",        "compiler", "git_sha",    "timestamp",   "oversubscribed"};
+  return cols;
+}
+
+std::string csv_row(const RunRecord& r) {
+  const TimerReport& t = r.timing;
+  const double halo_mean = t[Region::halo_pack].mean + t[Region::halo_unpack].mean + t[Region::halo_mpi].mean;
+  const double cells = double(r.nx) * r.ny * r.nz;
+  const double mlups = t.elapsed.max > 0 ? cells * double(r.steps) / t.elapsed.max / 1e6 : 0.0;
+  std::ostringstream o;
+  o << clean(r.experiment) << ',' << clean(r.method) << ',' << clean(r.comm) << ',' << clean(r.eps) << ','
+    << r.ranks << ',' << r.threads << ',' << r.px << ',' << r.py << ',' << r.pz << ',' << r.nx << ',' << r.ny << ','
+    << r.nz << ',' << r.particles << ',' << r.steps << ',' << num(r.dt) << ',' << clean(r.ns_per_step) << ','
+    << clean(r.nc_per_step) << ',' << num(t.elapsed.max) << ',' << num(t[Region::compute].mean) << ','
+    << num(halo_mean) << ',' << num(t[Region::reduce].mean) << ',' << num(t.comm.mean) << ',' << num(t.comm.max)
+    << ',' << num(t.comm_fraction) << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid ? 1 : 0) << ','
+    << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
+    << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.oversubscribed ? 1 : 0) << '\n';
+  return o.str();
+}
+
+void append_csv(const std::string& path, const RunRecord& r) {
+  std::string header;
+  for (const auto& c : csv_columns()) header += (header.empty() ? "" : ",") + c;
+  header += '\n';
+  const std::string row = csv_row(r);
+
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  if (fd < 0) throw std::runtime_error("cannot open CSV file " + path + ": " + std::strerror(errno));
+  if (::flock(fd, LOCK_EX) != 0) {
+    ::close(fd);
+    throw std::runtime_error("cannot lock CSV file " + path + ": " + std::strerror(errno));
+  }
+  struct stat st{};
+  ::fstat(fd, &st);
+  const std::string out = st.st_size == 0 ? header + row : row;
+  // One write of the whole text while holding the lock.
+  std::size_t done = 0;
+  while (done < out.size()) {
+    const ssize_t w = ::write(fd, out.data() + done, out.size() - done);
+    if (w < 0 && errno == EINTR) continue;
+    if (w <= 0) {
+      ::flock(fd, LOCK_UN);
+      ::close(fd);
+      throw std::runtime_error("cannot write CSV file " + path + ": " + std::strerror(errno));
+    }
+    done += static_cast<std::size_t>(w);
+  }
+  ::flock(fd, LOCK_UN);
+  ::close(fd);
+}
+
+bool node_oversubscribed(MPI_Comm comm, int threads) {
+  MPI_Comm node;
+  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  int local = 1;
+  MPI_Comm_size(node, &local);
+  MPI_Comm_free(&node);
+  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  const int mine = long(local) * threads > cores ? 1 : 0;
+  int any = 0;
+  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
+  return any != 0;
+}
+
+}  // namespace efsi

@@ -1,0 +1,41 @@
+#pragma once
+// One CSV row per finished run (DESIGN.md section 8), appended by rank 0 under an
+// exclusive file lock so that concurrent runs never interleave or lose a row.
+#include <mpi.h>
+
+#include <string>
+#include <vector>
+
+#include "region_timers.hpp"
+
+namespace efsi {
+
+struct RunRecord {
+  std::string experiment, method, comm, eps;  // eps empty where it does not apply
+  int ranks = 1, threads = 1;
+  int px = 1, py = 1, pz = 1;
+  int nx = 0, ny = 0, nz = 0;
+  long particles = 0, steps = 0;
+  double dt = 0;
+  std::string ns_per_step, nc_per_step;  // empty where they do not apply
+  TimerReport timing;
+  double div_rms = 0;
+  bool valid = false;
+  bool oversubscribed = false;
+};
+
+// The section-8 columns in order, then the suite's own: oversubscribed.
+const std::vector<std::string>& csv_columns();
+
+// Fills host, MPI library, compiler, git revision and UTC timestamp, and formats the row.
+std::string csv_row(const RunRecord& r);
+
+// Appends the row (and the header when the file is new or empty) atomically with respect
+// to other processes using the same function. Throws std::runtime_error naming the file
+// when it cannot be written.
+void append_csv(const std::string& path, const RunRecord& r);
+
+// True when the ranks on this node times OMP threads exceed its cores. Collective.
+bool node_oversubscribed(MPI_Comm comm, int threads);
+
+}  // namespace efsi

@@ -1,0 +1,88 @@
+#include "channel_case.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "acm.hpp"
+#include "config_error.hpp"
+#include "time_step_limits.hpp"
+
+namespace efsi {
+
+PressureKind parse_method(const std::string& name) {
+  if (name == "acm") return PressureKind::acm;
+  if (name == "sor" || name == "fft")
+    throw ConfigError("method '" + name + "' is not available yet (the SMAC methods are being built); use acm");
+  throw ConfigError("unknown method '" + name + "': expected acm, sor or fft");
+}
+
+const char* to_string(PressureKind k) {
+  switch (k) {
+    case PressureKind::acm: return "acm";
+    case PressureKind::sor: return "sor";
+    case PressureKind::fft: return "fft";
+  }
+  return "?";
+}
+
+const char* to_string(CommMode m) { return m == CommMode::sync ? "sync" : "async"; }
+
+double poiseuille_centre_velocity(const ChannelCase& c) {
+  return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
+}
+
+std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_end) {
+  const Domain& d = c.domain;
+  for (int a = 0; a < 3; ++a)
+    if (!(d.length[a] > 0))
+      throw ConfigError("box length " + std::to_string(d.length[a]) + " must be positive");
+  choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
+  if (!(c.solver.dt > 0)) throw ConfigError("dt=" + std::to_string(c.solver.dt) + " must be positive");
+  const Physics& ph = c.solver.physics;
+  check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, ph.force));
+
+  std::vector<Particle> particles;
+  if (c.slab > 0) {
+    if (c.particles > 0) throw ConfigError("--slab and --particles exclude each other");
+    const double dy = d.spacing(Y);
+    if (c.slab < 2 * dy || c.slab > d.length[Y] / 2 - dy)
+      throw ConfigError("slab half-gap " + std::to_string(c.slab) + " must lie between two cells (" +
+                        std::to_string(2 * dy) + ") and Ly/2 - one cell (" + std::to_string(d.length[Y] / 2 - dy) +
+                        ")");
+    return particles;
+  }
+  if (c.particles != 0) {
+    particles = lattice_particles(d, c.particles, c.particle);
+    check_particles(d, particles, c.particle);
+  }
+  return particles;
+}
+
+std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecomposition& decomp,
+                                        const std::vector<Particle>& particles) {
+  std::unique_ptr<PressureMethod> pressure;
+  switch (c.method) {
+    case PressureKind::acm: pressure = std::make_unique<AcmPressure>(); break;
+    default: throw ConfigError(std::string("method ") + to_string(c.method) + " is not available yet");
+  }
+  auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
+  Field& phi = solver->state().phi();
+  phi.fill(0.0);
+  if (c.slab > 0) {
+    // Exact fraction of each cell inside slab < y < Ly - slab.
+    const double dy = c.domain.spacing(Y), lo = c.slab, hi = c.domain.length[Y] - c.slab;
+    const Int3 n = phi.n();
+    for (int j = 0; j < n[Y]; ++j) {
+      const double y0 = (phi.offset()[Y] + j) * dy, y1 = y0 + dy;
+      const double frac = std::max(0.0, std::min(y1, hi) - std::max(y0, lo)) / dy;
+      for (int k = 0; k < n[Z]; ++k)
+        for (int i = 0; i < n[X]; ++i) phi(i, j, k) = frac;
+    }
+  } else if (!particles.empty()) {
+    fill_solid_fraction(phi, c.domain, particles, c.particle);
+  }
+  solver->start_from_rest();
+  return solver;
+}
+
+}  // namespace efsi

@@ -1,0 +1,48 @@
+#pragma once
+// Strain rate and the solid's deviatoric stress on the staggered grid: the one
+// definition that the momentum equation and the energy-budget diagnostics share.
+#include <algorithm>
+#include <cmath>
+
+#include "fsi_state.hpp"
+#include "stencils.hpp"
+
+namespace efsi {
+
+struct InverseSpacing {
+  double h[3];
+  explicit InverseSpacing(const Domain& d) : h{1.0 / d.spacing(X), 1.0 / d.spacing(Y), 1.0 / d.spacing(Z)} {}
+};
+
+// WENO transport can undershoot phi slightly below zero at the interface.
+inline double sqrt_phi(double phi) { return std::sqrt(std::max(phi, 0.0)); }
+
+// L_AM = d v_A / d x_M at its own location, tensor_location(A, M).
+template <int A, int M>
+inline double grad_v(const FsiState& s, const InverseSpacing& inv, int i, int j, int k) {
+  return difference<face_location(A), M>(s.vel(A), i, j, k, inv.h[M]);
+}
+
+// D_AB at tensor_location(A, B).
+template <int A, int B>
+inline double strain_rate(const FsiState& s, const InverseSpacing& inv, int i, int j, int k) {
+  if constexpr (A == B) return grad_v<A, A>(s, inv, i, j, k);
+  else return 0.5 * (grad_v<A, B>(s, inv, i, j, k) + grad_v<B, A>(s, inv, i, j, k));
+}
+
+// sqrt(phi) (Bt - tr(Bt)/3 I)_AB at tensor_location(A, B); the solid stress is G times
+// this. sqrt(phi) is averaged to the edges from the four surrounding centres.
+template <int A, int B>
+inline double solid_stress_over_G(const FsiState& s, int i, int j, int k) {
+  const Field& phi = s.phi();
+  if constexpr (A == B) {
+    const double tr = s.B(0)(i, j, k) + s.B(1)(i, j, k) + s.B(2)(i, j, k);
+    return sqrt_phi(phi(i, j, k)) * (s.B(A)(i, j, k) - tr / 3.0);
+  } else {
+    constexpr Stagger T = tensor_location(A, B);
+    const double sq = average<Stagger::cell, T>([&](int a, int b, int c) { return sqrt_phi(phi(a, b, c)); }, i, j, k);
+    return sq * s.B(A, B)(i, j, k);
+  }
+}
+
+}  // namespace efsi

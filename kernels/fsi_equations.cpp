@@ -1,0 +1,210 @@
+#include "fsi_equations.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "constitutive.hpp"
+#include "weno5.hpp"
+
+namespace efsi {
+namespace {
+
+using Inv = InverseSpacing;
+
+template <class F>
+void for_box(const Box& b, F&& f) {
+  if (b.empty()) return;
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
+    for (int j = b.lo[Y]; j < b.hi[Y]; ++j)
+      for (int i = b.lo[X]; i < b.hi[X]; ++i) f(i, j, k);
+}
+
+template <int A, int B>
+void stress_component(const FsiState& s, const Physics& ph, Field& t, const Box& box) {
+  const Inv inv(s.domain());
+  const double two_mu = 2.0 * ph.mu, G = ph.G;
+  for_box(box, [&](int i, int j, int k) {
+    t(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_stress_over_G<A, B>(s, i, j, k);
+  });
+}
+
+// Transport velocity v_A (a face quantity) at the edge or centre `E` of the flux through
+// the face of component C along axis A, for the skew-symmetric advection.
+template <int C, int A>
+inline double flux_velocity(const FsiState& s, int i, int j, int k) {
+  const Field& ua = s.vel(A);
+  if constexpr (A == C) {  // at the centre i: mean of faces i and i + 1
+    constexpr int dx = unit(A, X), dy = unit(A, Y), dz = unit(A, Z);
+    return 0.5 * (ua(i, j, k) + ua(i + dx, j + dy, k + dz));
+  } else {  // at the edge i between faces of C: mean of v_A over the C direction
+    constexpr int cx = unit(C, X), cy = unit(C, Y), cz = unit(C, Z);
+    return 0.5 * (ua(i - cx, j - cy, k - cz) + ua(i, j, k));
+  }
+}
+
+template <int C, int A>
+inline double advection_term(const FsiState& s, const Inv& inv, int i, int j, int k) {
+  constexpr int ax = unit(A, X), ay = unit(A, Y), az = unit(A, Z);
+  const Field& uc = s.vel(C);
+  // Centres of flux above and below: for A == C the centres i and i - 1, otherwise the
+  // edges i + 1 and i along A.
+  double up, lo;
+  if constexpr (A == C) {
+    up = flux_velocity<C, A>(s, i, j, k);
+    lo = flux_velocity<C, A>(s, i - ax, j - ay, k - az);
+  } else {
+    up = flux_velocity<C, A>(s, i + ax, j + ay, k + az);
+    lo = flux_velocity<C, A>(s, i, j, k);
+  }
+  // Half the divergence form plus half the advective form collapses to this.
+  return 0.5 * inv.h[A] * (up * uc(i + ax, j + ay, k + az) - lo * uc(i - ax, j - ay, k - az));
+}
+
+template <int C, int A>
+inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv& inv, int i, int j, int k) {
+  constexpr int ax = unit(A, X), ay = unit(A, Y), az = unit(A, Z);
+  const Field& t = tau[tensor_index(C, A)];
+  if constexpr (A == C)  // centres i - 1 and i around the face i
+    return (t(i, j, k) - t(i - ax, j - ay, k - az)) * inv.h[A];
+  else  // edges i and i + 1 along A
+    return (t(i + ax, j + ay, k + az) - t(i, j, k)) * inv.h[A];
+}
+
+template <int C>
+void vstar_component(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt, Field& out,
+                     const Box& box) {
+  const Inv inv(s.domain());
+  const Field& uc = s.vel(C);
+  const Field& p = s.p();
+  constexpr int cx = unit(C, X), cy = unit(C, Y), cz = unit(C, Z);
+  const double inv_rho = 1.0 / ph.rho;
+  const double force = C == X ? ph.force * inv_rho : 0.0;
+  // Wall faces of v (global j = 0 and j = NY) stay at rest.
+  const int wall_lo = -s.decomp().offset()[Y];
+  const int wall_hi = s.decomp().global()[Y] - s.decomp().offset()[Y];
+  for_box(box, [&](int i, int j, int k) {
+    if constexpr (C == Y) {
+      if (j == wall_lo || j == wall_hi) {
+        out(i, j, k) = 0.0;
+        return;
+      }
+    }
+    const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
+                       advection_term<C, Z>(s, inv, i, j, k);
+    const double div_tau = stress_divergence_term<C, X>(tau, inv, i, j, k) +
+                           stress_divergence_term<C, Y>(tau, inv, i, j, k) +
+                           stress_divergence_term<C, Z>(tau, inv, i, j, k);
+    const double grad_p = (p(i, j, k) - p(i - cx, j - cy, k - cz)) * inv.h[C];
+    out(i, j, k) = uc(i, j, k) + dt * (-adv + (div_tau - grad_p) * inv_rho + force);
+  });
+}
+
+// v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
+template <Stagger T, int M>
+inline double weno_advection(const FsiState& s, const Inv& inv, const Field& q, int i, int j, int k) {
+  const double vel = average<face_location(M), T>(s.vel(M), i, j, k);
+  const std::ptrdiff_t st = M == X ? 1 : M == Y ? q.stride_y() : q.stride_z();
+  const double* c = q.data() + q.index(i, j, k);
+  return vel * weno5_derivative(c[-3 * st], c[-2 * st], c[-st], c[0], c[st], c[2 * st], c[3 * st], vel, inv.h[M]);
+}
+
+// (L.Bt + Bt.L^T)_AB at tensor_location(A, B), each factor averaged to that location.
+template <int A, int B, int M>
+inline double upper_convected_term(const FsiState& s, const Inv& inv, int i, int j, int k) {
+  constexpr Stagger T = tensor_location(A, B);
+  auto L = [&](auto a_tag, auto m_tag) {
+    constexpr int a = decltype(a_tag)::value, m = decltype(m_tag)::value;
+    return average<tensor_location(a, m), T>([&](int x, int y, int z) { return grad_v<a, m>(s, inv, x, y, z); }, i,
+                                             j, k);
+  };
+  using IA = std::integral_constant<int, A>;
+  using IB = std::integral_constant<int, B>;
+  using IM = std::integral_constant<int, M>;
+  const double b_mb = average<tensor_location(M, B), T>(s.B(M, B), i, j, k);
+  const double b_am = average<tensor_location(A, M), T>(s.B(A, M), i, j, k);
+  return L(IA{}, IM{}) * b_mb + b_am * L(IB{}, IM{});
+}
+
+template <int A, int B>
+void transport_component(const FsiState& s, double dt, Field& out, const Box& cells) {
+  const Inv inv(s.domain());
+  constexpr Stagger T = tensor_location(A, B);
+  const Field& q = s.B(A, B);
+  Box box = cells;
+  // The top wall face of a field staggered in y is owned (see field.hpp).
+  if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
+  const int wall_lo = -s.decomp().offset()[Y];
+  const int wall_hi = s.decomp().global()[Y] - s.decomp().offset()[Y];
+  for_box(box, [&](int i, int j, int k) {
+    double adv = weno_advection<T, X>(s, inv, q, i, j, k) + weno_advection<T, Z>(s, inv, q, i, j, k);
+    // On a wall face v = 0 exactly, and the stencil would reach past the ghosts.
+    if (!(is_staggered(T, Y) && (j == wall_lo || j == wall_hi))) adv += weno_advection<T, Y>(s, inv, q, i, j, k);
+    const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) + upper_convected_term<A, B, Y>(s, inv, i, j, k) +
+                      upper_convected_term<A, B, Z>(s, inv, i, j, k);
+    out(i, j, k) = q(i, j, k) + dt * (uc - adv);
+  });
+}
+
+}  // namespace
+
+FsiWork::FsiWork(const CartDecomposition& decomp)
+    : tau{Field(decomp, {"tau11", Stagger::cell, 1}), Field(decomp, {"tau22", Stagger::cell, 1}),
+          Field(decomp, {"tau33", Stagger::cell, 1}), Field(decomp, {"tau12", Stagger::edge_xy, 1}),
+          Field(decomp, {"tau13", Stagger::edge_xz, 1}), Field(decomp, {"tau23", Stagger::edge_yz, 1})},
+      vstar{Field(decomp, {"u*", Stagger::face_x, 1, WallParity::odd}),
+            Field(decomp, {"v*", Stagger::face_y, 1, WallParity::odd}),
+            Field(decomp, {"w*", Stagger::face_z, 1, WallParity::odd})},
+      phi_new(decomp, fsi_field_specs()[4]),
+      B_new{Field(decomp, fsi_field_specs()[5]), Field(decomp, fsi_field_specs()[6]),
+            Field(decomp, fsi_field_specs()[7]), Field(decomp, fsi_field_specs()[8]),
+            Field(decomp, fsi_field_specs()[9]), Field(decomp, fsi_field_specs()[10])},
+      div(decomp, {"div*", Stagger::cell, 1, WallParity::even}),
+      dp(decomp, {"dp", Stagger::cell, 1, WallParity::even}) {}
+
+KernelBoxes full_boxes(const Int3& n) {
+  return {{{-1, -1, -1}, n}, {{0, 0, 0}, {n[0] + 1, n[1] + 1, n[2] + 1}}, {{0, 0, 0}, n}, {{0, 0, 0}, n}};
+}
+
+KernelBoxes interior_boxes(const Int3& n) {
+  const Int3 m1{n[0] - 1, n[1] - 1, n[2] - 1}, m3{n[0] - 3, n[1] - 3, n[2] - 3};
+  return {{{0, 0, 0}, m1}, {{1, 1, 1}, n}, {{1, 1, 1}, m1}, {{3, 3, 3}, m3}};
+}
+
+void compute_stress(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
+                    const Box& edges) {
+  stress_component<0, 0>(s, ph, tau[0], centres);
+  stress_component<1, 1>(s, ph, tau[1], centres);
+  stress_component<2, 2>(s, ph, tau[2], centres);
+  stress_component<0, 1>(s, ph, tau[3], edges);
+  stress_component<0, 2>(s, ph, tau[4], edges);
+  stress_component<1, 2>(s, ph, tau[5], edges);
+}
+
+void compute_vstar(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt,
+                   std::array<Field, 3>& vstar, const Box& faces) {
+  vstar_component<X>(s, ph, tau, dt, vstar[0], faces);
+  vstar_component<Y>(s, ph, tau, dt, vstar[1], faces);
+  vstar_component<Z>(s, ph, tau, dt, vstar[2], faces);
+}
+
+void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<Field, 6>& B_new, const Box& cells) {
+  {
+    const Inv inv(s.domain());
+    const Field& phi = s.phi();
+    for_box(cells, [&](int i, int j, int k) {
+      const double adv = weno_advection<Stagger::cell, X>(s, inv, phi, i, j, k) +
+                         weno_advection<Stagger::cell, Y>(s, inv, phi, i, j, k) +
+                         weno_advection<Stagger::cell, Z>(s, inv, phi, i, j, k);
+      phi_new(i, j, k) = phi(i, j, k) - dt * adv;
+    });
+  }
+  transport_component<0, 0>(s, dt, B_new[0], cells);
+  transport_component<1, 1>(s, dt, B_new[1], cells);
+  transport_component<2, 2>(s, dt, B_new[2], cells);
+  transport_component<0, 1>(s, dt, B_new[3], cells);
+  transport_component<0, 2>(s, dt, B_new[4], cells);
+  transport_component<1, 2>(s, dt, B_new[5], cells);
+}
+
+}  // namespace efsi

@@ -1,0 +1,47 @@
+#pragma once
+// The governing equations (DESIGN.md sections 1 and 2) in one place, shared by every
+// pressure method: deviatoric stress, the unprojected velocity v* of eq. (6), and the
+// WENO5 + upper-convected transport of phi and Bt. Each kernel works on a box of its
+// output points, so a caller can do the interior while a halo exchange is in flight
+// and the rest after it (the result is the same arithmetic either way).
+#include <array>
+
+#include "fsi_state.hpp"
+
+namespace efsi {
+
+// Work arrays of one step.
+struct FsiWork {
+  FsiWork(const CartDecomposition& decomp);
+  std::array<Field, 6> tau;    // deviatoric stress at tensor_location, tensor_index order
+  std::array<Field, 3> vstar;  // unprojected velocity
+  Field phi_new;
+  std::array<Field, 6> B_new;
+  Field div;  // rho div v* at cell centres (halo 1: the Laplacian reads neighbours)
+  Field dp;   // pressure increment (halo 1: its gradient reads the low neighbour)
+};
+
+// Output ranges of the kernels over the whole local block (ghost reads included) and
+// over the part that reads no ghost at all.
+struct KernelBoxes {
+  Box stress_centres, stress_edges, momentum, transport;
+};
+KernelBoxes full_boxes(const Int3& n);
+KernelBoxes interior_boxes(const Int3& n);
+
+// tau = 2 mu D + G sqrt(phi) (Bt - tr(Bt)/3 I): diagonal on `centres`, off-diagonal on `edges`.
+void compute_stress(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
+                    const Box& edges);
+
+// v* = v + dt/rho (-grad p - rho v.grad v + div tau + f e_x) on the faces of `faces`
+// (wall faces of v are left at zero). Advection in the skew-symmetric form, which
+// conserves kinetic energy for any velocity field.
+void compute_vstar(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt,
+                   std::array<Field, 3>& vstar, const Box& faces);
+
+// phi_new = phi - dt v.grad phi; Bt_new = Bt + dt (-v.grad Bt + L.Bt + Bt.L^T) with the
+// WENO5 upwind derivative, on `cells` (extended to the owned top wall face for edge
+// components staggered in y).
+void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<Field, 6>& B_new, const Box& cells);
+
+}  // namespace efsi

@@ -1,0 +1,198 @@
+#include "fsi_solver.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+namespace efsi {
+
+FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
+                     std::unique_ptr<PressureMethod> pressure)
+    : decomp_(decomp), config_(config), state_(decomp, domain), work_(decomp), pressure_(std::move(pressure)) {
+  state_halo_ = std::make_unique<HaloExchange>(decomp, state_.all(), Reach::full, &timers_);
+  vstar_halo_ = std::make_unique<HaloExchange>(
+      decomp, std::vector<Field*>{&work_.vstar[0], &work_.vstar[1], &work_.vstar[2]}, Reach::faces, &timers_);
+  div_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work_.div}, Reach::faces, &timers_);
+}
+
+void FsiSolver::start_from_rest() {
+  complete_exchange();
+  state_.set_unstrained_rest();
+  state_halo_->exchange();
+  steps_ = 0;
+  time_ = 0.0;
+}
+
+void FsiSolver::complete_exchange() {
+  if (pending_) {
+    state_halo_->finish();
+    pending_ = false;
+  }
+}
+
+void FsiSolver::step() {
+  const Int3 n = decomp_.local();
+  const KernelBoxes full = full_boxes(n);
+  const double dt = config_.dt;
+  const Physics& ph = config_.physics;
+
+  if (config_.comm == CommMode::async && pending_) {
+    // The last step's exchange is in flight: do everything that reads no ghost.
+    const KernelBoxes in = interior_boxes(n);
+    {
+      RegionTimers::Scope t(&timers_, Region::compute);
+      compute_stress(state_, ph, work_.tau, in.stress_centres, in.stress_edges);
+      compute_vstar(state_, ph, work_.tau, dt, work_.vstar, in.momentum);
+      compute_transport(state_, dt, work_.phi_new, work_.B_new, in.transport);
+    }
+    complete_exchange();
+    {
+      RegionTimers::Scope t(&timers_, Region::compute);
+      for_each_shell_box(full.stress_centres, in.stress_centres,
+                         [&](const Box& b) { compute_stress(state_, ph, work_.tau, b, Box{}); });
+      for_each_shell_box(full.stress_edges, in.stress_edges,
+                         [&](const Box& b) { compute_stress(state_, ph, work_.tau, Box{}, b); });
+      for_each_shell_box(full.momentum, in.momentum,
+                         [&](const Box& b) { compute_vstar(state_, ph, work_.tau, dt, work_.vstar, b); });
+    }
+    vstar_halo_->begin();
+    {
+      RegionTimers::Scope t(&timers_, Region::compute);
+      for_each_shell_box(full.transport, in.transport,
+                         [&](const Box& b) { compute_transport(state_, dt, work_.phi_new, work_.B_new, b); });
+    }
+    vstar_halo_->finish();
+  } else {
+    complete_exchange();
+    {
+      RegionTimers::Scope t(&timers_, Region::compute);
+      compute_stress(state_, ph, work_.tau, full.stress_centres, full.stress_edges);
+      compute_vstar(state_, ph, work_.tau, dt, work_.vstar, full.momentum);
+    }
+    if (config_.comm == CommMode::async) {
+      vstar_halo_->begin();
+      {
+        RegionTimers::Scope t(&timers_, Region::compute);
+        compute_transport(state_, dt, work_.phi_new, work_.B_new, full.transport);
+      }
+      vstar_halo_->finish();
+    } else {
+      RegionTimers::Scope t(&timers_, Region::compute);
+      compute_transport(state_, dt, work_.phi_new, work_.B_new, full.transport);
+    }
+    if (config_.comm == CommMode::sync) vstar_halo_->exchange();
+  }
+
+  compute_divergence();
+  div_halo_->exchange();
+  PressureInputs in{state_, work_, ph, dt, timers_};
+  pressure_->increment(in);
+  const double umax = project();
+
+  std::swap(state_.phi(), work_.phi_new);
+  for (int c = 0; c < 6; ++c) std::swap(state_.B(c), work_.B_new[c]);
+  ++steps_;
+  time_ += dt;
+  if (config_.check_every > 0 && steps_ % config_.check_every == 0) check_blow_up(umax);
+
+  if (config_.comm == CommMode::async) {
+    state_halo_->begin();
+    pending_ = true;
+  } else {
+    state_halo_->exchange();
+  }
+}
+
+void FsiSolver::compute_divergence() {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const Int3 n = decomp_.local();
+  const Domain& d = state_.domain();
+  const double rho = config_.physics.rho;
+  const double ix = rho / d.spacing(X), iy = rho / d.spacing(Y), iz = rho / d.spacing(Z);
+  const Field &u = work_.vstar[0], &v = work_.vstar[1], &w = work_.vstar[2];
+  Field& div = work_.div;
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i)
+        div(i, j, k) = (u(i + 1, j, k) - u(i, j, k)) * ix + (v(i, j + 1, k) - v(i, j, k)) * iy +
+                       (w(i, j, k + 1) - w(i, j, k)) * iz;
+}
+
+double FsiSolver::project() {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const Int3 n = decomp_.local();
+  const Domain& d = state_.domain();
+  const double c = config_.dt / config_.physics.rho;
+  const Field& dp = work_.dp;
+  Field& p = state_.p();
+  const int wall_lo = -decomp_.offset()[Y];
+  double umax = 0.0;
+#pragma omp parallel for collapse(2) schedule(static) reduction(max : umax)
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) {
+        p(i, j, k) += dp(i, j, k);
+        const double q = dp(i, j, k);
+        const double u = work_.vstar[0](i, j, k) - c * (q - dp(i - 1, j, k)) / d.spacing(X);
+        const double v = j == wall_lo ? 0.0 : work_.vstar[1](i, j, k) - c * (q - dp(i, j - 1, k)) / d.spacing(Y);
+        const double w = work_.vstar[2](i, j, k) - c * (q - dp(i, j, k - 1)) / d.spacing(Z);
+        state_.vel(X)(i, j, k) = u;
+        state_.vel(Y)(i, j, k) = v;
+        state_.vel(Z)(i, j, k) = w;
+        const double m = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
+        // NaN compares false: make it infinite so that the max carries it.
+        umax = std::max(umax, m == m ? m : std::numeric_limits<double>::infinity());
+      }
+  return umax;
+}
+
+void FsiSolver::check_blow_up(double local_umax) {
+  double umax = 0.0;
+  {
+    RegionTimers::Scope t(&timers_, Region::reduce);
+    MPI_Allreduce(&local_umax, &umax, 1, MPI_DOUBLE, MPI_MAX, decomp_.comm());
+  }
+  if (umax <= config_.velocity_limit) return;
+
+  // Find where: the lowest rank with a bad point tells everyone.
+  char where[256] = "";
+  for (Field* f : state_.all()) {
+    const Int3 n = f->n();
+    const bool is_velocity = f->stagger() == Stagger::face_x || f->stagger() == Stagger::face_y ||
+                             f->stagger() == Stagger::face_z;
+    for (int k = 0; k < n[Z] && !where[0]; ++k)
+      for (int j = 0; j < n[Y] && !where[0]; ++j)
+        for (int i = 0; i < n[X] && !where[0]; ++i) {
+          const double x = (*f)(i, j, k);
+          if (!std::isfinite(x) || (is_velocity && std::fabs(x) > config_.velocity_limit))
+            std::snprintf(where, sizeof where, "%s = %g at global cell (%d, %d, %d)", f->name().c_str(), x,
+                          f->offset()[X] + i, f->offset()[Y] + j, f->offset()[Z] + k);
+        }
+    if (where[0]) break;
+  }
+  int mine = where[0] ? decomp_.rank() : decomp_.size(), first = 0;
+  MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, decomp_.comm());
+  if (first < decomp_.size()) MPI_Bcast(where, sizeof where, MPI_CHAR, first, decomp_.comm());
+  throw BlowUp("blow-up at step " + std::to_string(steps_) + " (t = " + std::to_string(time_) +
+               "): max |velocity| = " + std::to_string(umax) + " beyond the limit " +
+               std::to_string(config_.velocity_limit) + (where[0] ? std::string("; ") + where : std::string()));
+}
+
+FlowDiagnostics FsiSolver::diagnostics() {
+  complete_exchange();
+  FlowDiagnostics d = flow_diagnostics(state_, config_.physics);
+  d.step = steps_;
+  d.time = time_;
+  const PressureReport& r = pressure_->report();
+  d.beta = r.beta;
+  d.gamma = r.gamma;
+  if (d.beta > 0) d.mach = d.u_max / d.beta;
+  const double eta = d.u_max * config_.dt / state_.domain().spacing(X);
+  d.mach_bound = 2.0 * std::sqrt(3.0 * eta);
+  return d;
+}
+
+}  // namespace efsi

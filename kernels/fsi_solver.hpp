@@ -1,0 +1,69 @@
+#pragma once
+// One explicit step of the FSI equations (DESIGN.md section 3): v*, transport of phi and
+// Bt, then the method's pressure increment and the projection. Only the PressureMethod
+// differs between ACM and the SMAC variants.
+#include <memory>
+
+#include "fsi_equations.hpp"
+#include "halo_exchange.hpp"
+#include "pressure_method.hpp"
+#include "stepper.hpp"
+
+namespace efsi {
+
+enum class CommMode { sync, async };
+
+struct SolverConfig {
+  Physics physics;
+  double dt = 1e-4;
+  CommMode comm = CommMode::sync;
+  // A velocity component beyond this, or a non-finite value, stops the run (BlowUp).
+  double velocity_limit = 1e3;
+  int check_every = 1;  // steps between blow-up checks (one MPI_Allreduce each)
+};
+
+class FsiSolver final : public Stepper {
+ public:
+  FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
+            std::unique_ptr<PressureMethod> pressure);
+
+  // Set phi on the owned cells first; this puts the rest of the state at rest and
+  // unstrained (Bt = sqrt(phi) I) and fills every ghost.
+  void start_from_rest();
+
+  void step() override;
+  FlowDiagnostics diagnostics() override;
+  long steps_done() const override { return steps_; }
+  double time() const override { return time_; }
+  const RegionTimers& timers() const override { return timers_; }
+  RegionTimers& timers() override { return timers_; }
+
+  FsiState& state() { return state_; }
+  const FsiState& state() const { return state_; }
+  const SolverConfig& config() const { return config_; }
+  const PressureMethod& pressure() const { return *pressure_; }
+  const FsiWork& work() const { return work_; }  // D* and dp of the last step, for checks
+  // Completes an async exchange in flight so that every ghost is current.
+  void complete_exchange();
+
+ private:
+  void compute_divergence();
+  double project();  // returns the local max |velocity| (inf when non-finite)
+  void check_blow_up(double local_umax);
+
+  const CartDecomposition& decomp_;
+  SolverConfig config_;
+  FsiState state_;
+  FsiWork work_;
+  std::unique_ptr<PressureMethod> pressure_;
+  RegionTimers timers_;
+  std::unique_ptr<HaloExchange> state_halo_, vstar_halo_, div_halo_;
+  bool pending_ = false;
+  long steps_ = 0;
+  double time_ = 0.0;
+};
+
+// DESIGN.md section 6 diagnostics of the current state (ghosts must be current). Collective.
+FlowDiagnostics flow_diagnostics(const FsiState& s, const Physics& ph);
+
+}  // namespace efsi

@@ -1,0 +1,46 @@
+#include "fsi_state.hpp"
+
+#include <cmath>
+
+namespace efsi {
+
+std::vector<FieldSpec> fsi_field_specs() {
+  const int h = kTransportHalo;
+  return {
+      {"u", Stagger::face_x, 1, WallParity::odd},      {"v", Stagger::face_y, 1, WallParity::odd},
+      {"w", Stagger::face_z, 1, WallParity::odd},      {"p", Stagger::cell, 1, WallParity::even},
+      {"phi", Stagger::cell, h, WallParity::even},     {"Bt11", Stagger::cell, h, WallParity::even},
+      {"Bt22", Stagger::cell, h, WallParity::even},    {"Bt33", Stagger::cell, h, WallParity::even},
+      {"Bt12", Stagger::edge_xy, h, WallParity::even}, {"Bt13", Stagger::edge_xz, h, WallParity::even},
+      {"Bt23", Stagger::edge_yz, h, WallParity::even},
+  };
+}
+
+FsiState::FsiState(const CartDecomposition& decomp, const Domain& domain) : decomp_(decomp), domain_(domain) {
+  const auto specs = fsi_field_specs();
+  fields_.reserve(specs.size());
+  for (const auto& s : specs) fields_.emplace_back(decomp, s);
+}
+
+std::vector<Field*> FsiState::all() {
+  std::vector<Field*> out;
+  for (Field& f : fields_) out.push_back(&f);
+  return out;
+}
+
+void FsiState::set_unstrained_rest() {
+  for (int a = 0; a < 3; ++a) vel(a).fill(0.0);
+  p().fill(0.0);
+  for (int n = 3; n < 6; ++n) B(n).fill(0.0);
+  const Field& ph = phi();
+  const Int3 n = ph.n();
+  for (int a = 0; a < 3; ++a) {
+    Field& b = B(a, a);
+#pragma omp parallel for schedule(static)
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i) b(i, j, k) = std::sqrt(std::max(ph(i, j, k), 0.0));
+  }
+}
+
+}  // namespace efsi

@@ -1,0 +1,62 @@
+#pragma once
+// The solver's state on the local block: velocity, pressure, solid fraction and the
+// modified left Cauchy-Green tensor Bt = sqrt(phi) B, laid out as DESIGN.md section 2.
+#include <array>
+#include <vector>
+
+#include "decomposition.hpp"
+#include "domain.hpp"
+#include "field.hpp"
+#include "stencils.hpp"
+
+namespace efsi {
+
+struct Physics {
+  double rho = 1.0;    // density of fluid and solid
+  double mu = 1.0;     // viscosity of fluid and solid
+  double G = 50.0;     // shear modulus of the neo-Hookean solid
+  double force = 1.0;  // driving pressure gradient -dP/dx / Lx, along x
+};
+
+// Widest stencil: WENO5 reads three neighbours each side.
+inline constexpr int kTransportHalo = 3;
+
+// Index of Bt component (a, b) in FsiState::B: 11, 22, 33, 12, 13, 23.
+constexpr int tensor_index(int a, int b) {
+  if (a == b) return a;
+  const int s = a + b;  // 1: xy, 2: xz, 3: yz
+  return 2 + s;
+}
+
+// The eleven exchanged fields: u, v, w, p (halo 1), phi and six Bt components (halo 3).
+std::vector<FieldSpec> fsi_field_specs();
+
+class FsiState {
+ public:
+  FsiState(const CartDecomposition& decomp, const Domain& domain);
+
+  Field& vel(int a) { return fields_[a]; }
+  const Field& vel(int a) const { return fields_[a]; }
+  Field& p() { return fields_[3]; }
+  const Field& p() const { return fields_[3]; }
+  Field& phi() { return fields_[4]; }
+  const Field& phi() const { return fields_[4]; }
+  Field& B(int a, int b) { return fields_[5 + tensor_index(a, b)]; }
+  const Field& B(int a, int b) const { return fields_[5 + tensor_index(a, b)]; }
+  Field& B(int n) { return fields_[5 + n]; }
+  const Field& B(int n) const { return fields_[5 + n]; }
+
+  std::vector<Field*> all();  // in fsi_field_specs() order
+  const Domain& domain() const { return domain_; }
+  const CartDecomposition& decomp() const { return decomp_; }
+
+  // Bt = sqrt(phi0) I, v = 0, p = 0 (DESIGN.md section 1); owned points only.
+  void set_unstrained_rest();
+
+ private:
+  const CartDecomposition& decomp_;
+  Domain domain_;
+  std::vector<Field> fields_;
+};
+
+}  // namespace efsi

@@ -1,0 +1,27 @@
+#pragma once
+// The only part that differs between the three methods (DESIGN.md section 3): the
+// pressure increment dp with D^{N+1} = D* - dt Lap(dp), D* = rho div v*.
+#include "fsi_equations.hpp"
+#include "region_timers.hpp"
+#include "stepper.hpp"
+
+namespace efsi {
+
+struct PressureInputs {
+  const FsiState& state;  // p^N with its ghosts
+  FsiWork& work;          // work.div holds D* on owned cells and face ghosts
+  const Physics& physics;
+  double dt;
+  RegionTimers& timers;
+};
+
+class PressureMethod {
+ public:
+  virtual ~PressureMethod() = default;
+  // Fills work.dp on the owned cells and their face ghosts, shifted so that the new
+  // pressure p^N + dp keeps whatever mean the method fixes. Collective.
+  virtual void increment(PressureInputs& in) = 0;
+  virtual const PressureReport& report() const = 0;
+};
+
+}  // namespace efsi

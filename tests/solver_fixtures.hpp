@@ -1,0 +1,104 @@
+#pragma once
+// Shared set-up for the solver tests: a channel on a given decomposition, analytic
+// solutions, and gathering a distributed field onto one rank for comparisons.
+#include <mpi.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <vector>
+
+#include "acm.hpp"
+#include "decomposition.hpp"
+#include "fsi_solver.hpp"
+
+namespace efsi::testing {
+
+struct Channel {
+  std::unique_ptr<CartDecomposition> decomp;
+  std::unique_ptr<FsiSolver> solver;
+};
+
+// phi(x, y, z) at a point; the cell value is the mean over 4^3 sub-samples.
+using SolidShape = std::function<double(double, double, double)>;
+
+inline Channel make_channel(MPI_Comm comm, const Domain& dom, const Int3& dims, const SolverConfig& cfg,
+                            const SolidShape& solid = {}) {
+  Channel c;
+  c.decomp = std::make_unique<CartDecomposition>(comm, dom.cells, kTransportHalo, dims);
+  c.solver = std::make_unique<FsiSolver>(*c.decomp, dom, cfg, std::make_unique<AcmPressure>());
+  Field& phi = c.solver->state().phi();
+  phi.fill(0.0);
+  if (solid) {
+    const Int3 n = phi.n();
+    const int s = 4;
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i) {
+          double sum = 0;
+          for (int c3 = 0; c3 < s; ++c3)
+            for (int b = 0; b < s; ++b)
+              for (int a = 0; a < s; ++a)
+                sum += solid((phi.offset()[X] + i + (a + 0.5) / s) * dom.spacing(X),
+                             (phi.offset()[Y] + j + (b + 0.5) / s) * dom.spacing(Y),
+                             (phi.offset()[Z] + k + (c3 + 0.5) / s) * dom.spacing(Z));
+          phi(i, j, k) = sum / (s * s * s);
+        }
+  }
+  c.solver->start_from_rest();
+  return c;
+}
+
+// Start-up Poiseuille flow between walls at y = 0 and y = h (DESIGN.md section 6).
+inline double poiseuille_startup(double y, double t, double h, double f, double mu, double rho) {
+  double u = f / (2 * mu) * y * (h - y);
+  const double pi = std::acos(-1.0);
+  for (int n = 1; n < 400; n += 2) {
+    const double decay = std::exp(-n * n * pi * pi * mu * t / (rho * h * h));
+    if (decay < 1e-300) break;
+    u -= 4 * f * h * h / (mu * pi * pi * pi * n * n * n) * std::sin(n * pi * y / h) * decay;
+  }
+  return u;
+}
+
+// x-z means of a field's owned points against global j, summed over ranks (every rank
+// gets the whole profile).
+inline std::vector<double> xz_mean_profile(const Field& f, const Domain& dom, MPI_Comm comm) {
+  std::vector<double> local(dom.cells[Y], 0.0), global(dom.cells[Y], 0.0);
+  const Int3 n = f.n();
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) local[f.offset()[Y] + j] += f(i, j, k);
+  MPI_Allreduce(local.data(), global.data(), dom.cells[Y], MPI_DOUBLE, MPI_SUM, comm);
+  for (double& v : global) v /= double(dom.cells[X]) * dom.cells[Z];
+  return global;
+}
+
+// The owned points [0, n) of a distributed field, in global x-fastest order, on rank 0.
+inline std::vector<double> gather_global(const Field& f, const CartDecomposition& dec) {
+  const Int3 n = f.n(), g = dec.global();
+  std::vector<double> mine;
+  mine.reserve(static_cast<std::size_t>(product(n)) + 3);
+  for (int a = 0; a < 3; ++a) mine.push_back(f.offset()[a]);
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) mine.push_back(f(i, j, k));
+  const int count = static_cast<int>(mine.size());
+  std::vector<double> all(dec.rank() == 0 ? static_cast<std::size_t>(count) * dec.size() : 0);
+  MPI_Gather(mine.data(), count, MPI_DOUBLE, all.data(), count, MPI_DOUBLE, 0, dec.comm());
+  std::vector<double> out;
+  if (dec.rank() != 0) return out;
+  out.assign(static_cast<std::size_t>(product(g)), 0.0);
+  for (int r = 0; r < dec.size(); ++r) {
+    const double* b = all.data() + static_cast<std::size_t>(r) * count;
+    const int ox = int(b[0]), oy = int(b[1]), oz = int(b[2]);
+    std::size_t m = 3;
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i)
+          out[(std::size_t(oz + k) * g[Y] + (oy + j)) * g[X] + (ox + i)] = b[m++];
+  }
+  return out;
+}
+
+}  // namespace efsi::testing
