@@ -4,13 +4,13 @@
 #include <mpi.h>
 
 #include <cmath>
-#include <functional>
 #include <memory>
 #include <vector>
 
 #include "acm.hpp"
 #include "decomposition.hpp"
 #include "fsi_solver.hpp"
+#include "particles.hpp"
 
 namespace efsi::testing {
 
@@ -19,35 +19,22 @@ struct Channel {
   std::unique_ptr<FsiSolver> solver;
 };
 
-// phi(x, y, z) at a point; the cell value is the mean over 4^3 sub-samples.
-using SolidShape = std::function<double(double, double, double)>;
-
+// `particles` lattice sites of the box (0: none) as the solid, via the kernels' own
+// placement and sampling; the rest of the state at rest.
 inline Channel make_channel(MPI_Comm comm, const Domain& dom, const Int3& dims, const SolverConfig& cfg,
-                            const SolidShape& solid = {}) {
+                            int particles = 0) {
   Channel c;
   c.decomp = std::make_unique<CartDecomposition>(comm, dom.cells, kTransportHalo, dims);
   c.solver = std::make_unique<FsiSolver>(*c.decomp, dom, cfg, std::make_unique<AcmPressure>());
   Field& phi = c.solver->state().phi();
   phi.fill(0.0);
-  if (solid) {
-    const Int3 n = phi.n();
-    const int s = 4;
-    for (int k = 0; k < n[Z]; ++k)
-      for (int j = 0; j < n[Y]; ++j)
-        for (int i = 0; i < n[X]; ++i) {
-          double sum = 0;
-          for (int c3 = 0; c3 < s; ++c3)
-            for (int b = 0; b < s; ++b)
-              for (int a = 0; a < s; ++a)
-                sum += solid((phi.offset()[X] + i + (a + 0.5) / s) * dom.spacing(X),
-                             (phi.offset()[Y] + j + (b + 0.5) / s) * dom.spacing(Y),
-                             (phi.offset()[Z] + k + (c3 + 0.5) / s) * dom.spacing(Z));
-          phi(i, j, k) = sum / (s * s * s);
-        }
-  }
+  if (particles != 0) fill_solid_fraction(phi, dom, lattice_particles(dom, particles), ParticleSpec{});
   c.solver->start_from_rest();
   return c;
 }
+
+// The paper's weak-scaling block, 3.6^3 with its 2 particles, at n^3 cells.
+inline Domain paper_block(int n) { return Domain{{n, n, n}, {3.6, 3.6, 3.6}}; }
 
 // Start-up Poiseuille flow between walls at y = 0 and y = h (DESIGN.md section 6).
 inline double poiseuille_startup(double y, double t, double h, double f, double mu, double rho) {
