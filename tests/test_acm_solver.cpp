@@ -94,25 +94,20 @@ TEST(AcmSolver, ParticlesAtRestStayAtRestWithoutForcing) {
   EXPECT_LT(vmax, 1e-12);
 }
 
+// On a developed state with particles, J(a, b) = <(D* + a Lap D* + b Lap p^N)^2> at the
+// chosen (a, b) = (beta^2 dt^2, gamma beta^2 dt^2) is the minimum over a grid of values
+// with b >= 0; checked at a step of each branch (optimal b > 0, and gamma = 0).
 TEST(AcmSolver, ChosenParametersMinimiseTheNextDivergence) {
   SolverConfig cfg;
   cfg.dt = 1e-3;
   Channel c = make_channel(MPI_COMM_WORLD, paper_block(32), {0, 0, 0}, cfg, 2);
-  for (int step = 0; step < 30; ++step) c.solver->step();
-  c.solver->complete_exchange();
-  // p^N with its ghosts, then one more step records D* and the chosen a, b.
-  const Field& p = c.solver->state().p();
-  Field pN(*c.decomp, p.spec());
-  std::memcpy(pN.data(), p.data(), p.allocated() * sizeof(double));
-  c.solver->step();
-  const auto& acm = dynamic_cast<const AcmPressure&>(c.solver->pressure());
-  const AcmCoefficients best = acm.coefficients();
-  ASSERT_GT(best.a, 0.0);
-  const Field& div = c.solver->work().div;
-
   const Domain& dom = c.solver->state().domain();
   const double inv_h2[3] = {1 / std::pow(dom.spacing(X), 2), 1 / std::pow(dom.spacing(Y), 2),
                             1 / std::pow(dom.spacing(Z), 2)};
+  const Field& p = c.solver->state().p();
+  const Field& div = c.solver->work().div;
+  Field pN(*c.decomp, p.spec());
+
   auto mean_square = [&](double a, double b) {
     const Int3 n = div.n();
     double sum = 0, g = 0;
@@ -125,19 +120,37 @@ TEST(AcmSolver, ChosenParametersMinimiseTheNextDivergence) {
     MPI_Allreduce(&sum, &g, 1, MPI_DOUBLE, MPI_SUM, c.decomp->comm());
     return g;
   };
-  const double at_best = mean_square(best.a, best.b), uncorrected = mean_square(0, 0);
-  EXPECT_LT(at_best, uncorrected) << "the correction must reduce the divergence";
-  const double b_scale = best.b > 0 ? best.b : best.a;  // search b >= 0 around the optimum
-  double grid_min = at_best * 2;
-  for (int ia = 0; ia <= 40; ++ia)
-    for (int ib = 0; ib <= 40; ++ib) {
-      const double a = best.a * (0.5 + ia / 40.0), b = b_scale * (ib / 20.0);
-      grid_min = std::min(grid_min, mean_square(a, b));
+  auto check = [&](const AcmCoefficients& best) {
+    const double at_best = mean_square(best.a, best.b), uncorrected = mean_square(0, 0);
+    EXPECT_LT(at_best, uncorrected) << "the correction must reduce the divergence";
+    const double b_scale = best.b > 0 ? best.b : best.a;
+    double grid_min = at_best * 2;
+    for (int ia = 0; ia <= 40; ++ia)
+      for (int ib = 0; ib <= 40; ++ib)
+        grid_min = std::min(grid_min, mean_square(best.a * (0.5 + ia / 40.0), b_scale * (ib / 20.0)));
+    if (world_rank() == 0)
+      std::printf("  step %ld: a=%.4e b=%.4e branch=%d  <D^2>: none %.4e chosen %.4e grid min %.4e\n",
+                  c.solver->steps_done(), best.a, best.b, int(best.branch), uncorrected, at_best, grid_min);
+    EXPECT_LE(at_best, grid_min * (1 + 1e-12));
+  };
+
+  bool seen_optimal = false, seen_gamma_zero = false;
+  for (int step = 0; step < 200 && !(seen_optimal && seen_gamma_zero); ++step) {
+    c.solver->complete_exchange();
+    std::memcpy(pN.data(), p.data(), p.allocated() * sizeof(double));  // p^N with its ghosts
+    c.solver->step();
+    if (step < 5) continue;  // past the start from rest
+    const AcmCoefficients best = dynamic_cast<const AcmPressure&>(c.solver->pressure()).coefficients();
+    if (best.branch == AcmCoefficients::Branch::optimal && !seen_optimal) {
+      seen_optimal = true;
+      check(best);
+    } else if (best.branch == AcmCoefficients::Branch::gamma_zero && !seen_gamma_zero) {
+      seen_gamma_zero = true;
+      check(best);
     }
-  if (world_rank() == 0)
-    std::printf("  a=%.4e b=%.4e branch=%d  <D^2>: none %.4e chosen %.4e grid min %.4e\n", best.a, best.b,
-                int(best.branch), uncorrected, at_best, grid_min);
-  EXPECT_LE(at_best, grid_min * (1 + 1e-12));
+  }
+  EXPECT_TRUE(seen_optimal) << "no step chose gamma > 0";
+  EXPECT_TRUE(seen_gamma_zero) << "no step chose gamma = 0";
 }
 
 TEST(AcmSolverCoefficients, DegenerateCasesNeverDivideByZero) {
