@@ -1,0 +1,689 @@
+#!/usr/bin/env python3
+"""End-to-end tests of the `channel` driver through its command line (DESIGN.md section 8).
+
+Runs the built executable the way users and scripts do: bad input (one line on stderr naming
+the value, exit status 2, no output file touched, on 1 and 2 ranks), --help, the CSV run
+record (columns, numbers, consistency with the launch, appends under one header, concurrent
+appends), the --series / --profile / --centroids files, and the communication fraction of a
+single-rank run.
+
+Standard library only; meant for Debian's /usr/bin/python3.  Usage:
+
+    test_channel_cli.py --bin-dir BUILD/bin [unittest options]
+
+or with the environment variable EFSI_BIN_DIR.  EFSI_MPIEXEC names the MPI launcher (default:
+mpiexec or mpirun on PATH).  Open MPI as root needs OMPI_ALLOW_RUN_AS_ROOT=1 and
+OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; the tests set both for the processes they start.
+
+Tests marked expectedFailure document driver bugs found by these tests; each says what the
+bug is.  When a bug is fixed its test reports an unexpected success, which fails the run:
+then remove the marker.
+"""
+
+import csv
+import datetime
+import io
+import math
+import os
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+BIN_DIR = os.environ.get("EFSI_BIN_DIR", "")
+MPIEXEC = os.environ.get("EFSI_MPIEXEC") or shutil.which("mpiexec") or shutil.which("mpirun") or "mpiexec"
+
+# Seconds a run that should finish quickly may take (generous: sanitizer builds, a busy
+# machine), and how long to wait for a run that is known to hang before killing it.
+RUN_TIMEOUT = 180
+HANG_TIMEOUT = 10
+
+SECTION8_COLUMNS = (
+    "experiment,method,comm,eps,ranks,threads,px,py,pz,nx,ny,nz,particles,steps,dt,"
+    "ns_per_step,nc_per_step,elapsed_s,compute_s,halo_s,reduce_s,comm_s,comm_s_max,"
+    "comm_fraction,mlups,div_rms,valid,host,mpi,compiler,git_sha,timestamp").split(",")
+INT_COLUMNS = ("ranks", "threads", "px", "py", "pz", "nx", "ny", "nz", "particles", "steps", "valid")
+FLOAT_COLUMNS = ("dt", "elapsed_s", "compute_s", "halo_s", "reduce_s", "comm_s", "comm_s_max",
+                 "comm_fraction", "mlups", "div_rms")
+# Numbers where they apply, empty where they do not (ACM has no SOR tolerance or sweeps).
+OPTIONAL_NUMBER_COLUMNS = ("eps", "ns_per_step", "nc_per_step")
+TEXT_COLUMNS = ("host", "mpi", "compiler", "git_sha")
+
+# The options of DESIGN.md section 8's `channel` row.
+SECTION8_OPTIONS = ("--cells", "--length", "--method", "--comm", "--eps", "--ns", "--nc", "--dt",
+                    "--steps", "--t-end", "--G", "--particles", "--slab", "--profile", "--series",
+                    "--every", "--csv")
+
+PAPER_DX = 3.6 / 64               # default spacing: 64 cells per 3.6
+LATTICE_SITES = ((0.9, 0.9, 0.9), (2.7, 2.7, 2.7))  # the two BCC sites of one 3.6^3 block
+# Evans-Fung disc of diameter 2 (R = 1): V = 2 pi R^3 (C0/3 + 2 C1/15 + 8 C2/105).
+RBC_VOLUME = 2 * math.pi * (0.207161 / 3 + 2 * 2.002558 / 15 + 8 * -1.122762 / 105)
+
+# A short valid run with no particles (16^3 cells of the paper's spacing: a 0.9^3 box, too
+# small for a 3.6 particle lattice, hence --particles 0).
+SMALL = ["--cells", "16", "--particles", "0", "--steps", "3"]
+# The smallest box with the two lattice particles: 3.6^3 with 32^3 cells.
+WITH_PARTICLES = ["--cells", "32", "--length", "3.6", "--steps", "3"]
+LAYERED = ["--cells", "8,32,8", "--length", "0.5,2,0.5", "--slab", "0.5", "--steps", "5"]
+
+
+class Result:
+    def __init__(self, rc, out, err, timed_out, seconds):
+        self.rc, self.out, self.err, self.timed_out, self.seconds = rc, out, err, timed_out, seconds
+
+    def __str__(self):
+        state = "timed out" if self.timed_out else "exit status %s" % self.rc
+        return "%s after %.1f s\n--- stdout ---\n%s--- stderr ---\n%s" % (state, self.seconds, self.out, self.err)
+
+
+def channel_path():
+    return os.path.join(BIN_DIR, "channel")
+
+
+def test_env(threads=1):
+    env = dict(os.environ)
+    env.update({
+        "OMPI_ALLOW_RUN_AS_ROOT": "1",
+        "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",
+        # Lets mpiexec start 2 ranks on a 1-core machine; the driver itself still marks
+        # such runs as oversubscribed, which the CSV checks expect.
+        "OMPI_MCA_rmaps_base_oversubscribe": "1",
+        "OMPI_MCA_btl_vader_single_copy_mechanism": "none",
+        "OMP_NUM_THREADS": str(threads),
+        "ASAN_OPTIONS": env.get("ASAN_OPTIONS", "detect_leaks=0"),
+    })
+    return env
+
+
+def kill_session(sid):
+    """SIGKILL every process of session `sid` (one this file started with start_new_session:
+    the launcher and the ranks it forked, whatever process group they put themselves in)."""
+    for name in os.listdir("/proc"):
+        if not name.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % name) as f:
+                stat = f.read()
+        except OSError:
+            continue
+        fields = stat[stat.rindex(")") + 2:].split()
+        if int(fields[3]) == sid:
+            try:
+                os.kill(int(name), signal.SIGKILL)
+            except OSError:
+                pass
+
+
+def launch_command(args, ranks, rank_status_dir=None):
+    """The command line for `ranks` ranks: the bare executable for 1 (an MPI singleton, as
+    a user would start it), mpiexec otherwise.  With rank_status_dir, every rank runs under
+    a shell that writes the rank's exit status to rank_status_dir/rank<N>."""
+    prog = [channel_path()] + list(args)
+    if rank_status_dir is not None:
+        prog = ["/bin/sh", "-c",
+                'd=$1; shift; "$@"; rc=$?; echo "$rc" > "$d/rank${OMPI_COMM_WORLD_RANK:-${PMI_RANK:-0}}"; exit "$rc"',
+                "sh", rank_status_dir] + prog
+    if ranks == 1 and rank_status_dir is None:
+        return prog
+    return [MPIEXEC, "-q", "-n", str(ranks)] + prog
+
+
+def start(args, ranks=1, cwd=None, threads=1, rank_status_dir=None, extra_env=None):
+    env = test_env(threads)
+    if extra_env:
+        env.update(extra_env)
+    return subprocess.Popen(launch_command(args, ranks, rank_status_dir), cwd=cwd, env=env,
+                            stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+                            start_new_session=True)
+
+
+def finish(proc, timeout, started):
+    try:
+        out, err = proc.communicate(timeout=timeout)
+        return Result(proc.returncode, out, err, False, time.monotonic() - started)
+    except subprocess.TimeoutExpired:
+        kill_session(proc.pid)
+        try:
+            out, err = proc.communicate(timeout=30)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            out, err = "", "(output lost: the launcher did not close its pipes after SIGKILL)"
+        return Result(None, out or "", err or "", True, time.monotonic() - started)
+
+
+def run(args, ranks=1, cwd=None, threads=1, timeout=RUN_TIMEOUT, rank_status_dir=None, extra_env=None):
+    t0 = time.monotonic()
+    proc = start(args, ranks, cwd, threads, rank_status_dir, extra_env)
+    return finish(proc, timeout, t0)
+
+
+def numbers_in(text):
+    return [float(m) for m in re.findall(r"[-+]?(?:\d+\.\d*|\.\d+|\d+)(?:[eE][-+]?\d+)?", text)]
+
+
+def snapshot(directory):
+    """Every file under `directory` with its size, modification time and content."""
+    state = {}
+    for root, dirs, files in os.walk(directory):
+        for name in dirs + files:
+            path = os.path.join(root, name)
+            rel = os.path.relpath(path, directory)
+            if os.path.isdir(path):
+                state[rel + "/"] = None
+            else:
+                st = os.stat(path)
+                with open(path, "rb") as f:
+                    state[rel] = (st.st_size, st.st_mtime_ns, f.read())
+    return state
+
+
+def read_table(path):
+    with open(path, newline="") as f:
+        text = f.read()
+    rows = list(csv.reader(io.StringIO(text)))
+    return text, rows
+
+
+def cpu_count():
+    try:
+        return os.sysconf("SC_NPROCESSORS_ONLN")
+    except (ValueError, OSError):
+        return os.cpu_count() or 1
+
+
+class ChannelTestCase(unittest.TestCase):
+    def setUp(self):
+        if not os.access(channel_path(), os.X_OK):
+            self.fail("no channel executable at %r: pass --bin-dir or set EFSI_BIN_DIR" % channel_path())
+        self.dir = tempfile.mkdtemp(prefix="efsi_channel_cli_")
+        self.addCleanup(shutil.rmtree, self.dir, True)
+        self.started = datetime.datetime.now(datetime.timezone.utc)
+
+    def path(self, name):
+        return os.path.join(self.dir, name)
+
+    def run_ok(self, args, ranks=1, threads=1, **kw):
+        res = run(args, ranks=ranks, cwd=self.dir, threads=threads, **kw)
+        self.assertFalse(res.timed_out, "channel %s on %d rank(s) hung:\n%s" % (" ".join(args), ranks, res))
+        self.assertEqual(res.rc, 0, "channel %s on %d rank(s):\n%s" % (" ".join(args), ranks, res))
+        return res
+
+    # ---- the CSV run record ----
+
+    def check_header(self, header):
+        self.assertEqual(header[:len(SECTION8_COLUMNS)], SECTION8_COLUMNS,
+                         "the CSV header must begin with DESIGN.md section 8's columns, in order")
+        self.assertEqual(len(set(header)), len(header), "repeated column in %s" % header)
+        self.assertEqual(header[-1], "oversubscribed")
+
+    def check_row(self, header, row, ranks, threads, cells, steps, particles, comm, dims=None,
+                  experiment="channel"):
+        """One CSV row against the launch that wrote it; returns it as a dict of values."""
+        self.assertEqual(len(row), len(header), "row %s does not match the header %s" % (row, header))
+        r = dict(zip(header, row))
+        v = {}
+        for c in INT_COLUMNS:
+            try:
+                v[c] = int(r[c])
+            except ValueError:
+                self.fail("column %s = %r is not an integer (row %s)" % (c, r[c], row))
+        for c in FLOAT_COLUMNS:
+            try:
+                v[c] = float(r[c])
+            except ValueError:
+                self.fail("column %s = %r is not a number (row %s)" % (c, r[c], row))
+            self.assertTrue(math.isfinite(v[c]), "column %s = %r is not finite" % (c, r[c]))
+        for c in OPTIONAL_NUMBER_COLUMNS:
+            if r[c] != "":
+                try:
+                    float(r[c])
+                except ValueError:
+                    self.fail("column %s = %r is neither empty nor a number" % (c, r[c]))
+        for c in TEXT_COLUMNS:
+            self.assertTrue(r[c].strip(), "column %s is empty" % c)
+        self.assertEqual(r["experiment"], experiment)
+        self.assertEqual(r["method"], "acm")
+        self.assertEqual(r["comm"], comm)
+        self.assertEqual(r["host"], socket.gethostname())
+        self.assertIn("MPI", r["mpi"])
+
+        # The launch.
+        self.assertEqual(v["ranks"], ranks)
+        self.assertEqual(v["threads"], threads)
+        self.assertEqual(v["px"] * v["py"] * v["pz"], ranks)
+        if dims is not None:
+            self.assertEqual((v["px"], v["py"], v["pz"]), dims)
+        for c, n in zip(("nx", "ny", "nz"), cells):
+            self.assertEqual(v[c], n)
+        for c, p in (("nx", "px"), ("ny", "py"), ("nz", "pz")):
+            self.assertEqual(v[c] % v[p], 0, "%s=%d is not a multiple of %s=%d" % (c, v[c], p, v[p]))
+        self.assertEqual(v["particles"], particles)
+        self.assertEqual(v["steps"], steps)
+        self.assertAlmostEqual(v["dt"], 1.25e-5, delta=1e-15)
+
+        # The numbers against each other.
+        oversubscribed = ranks * threads > cpu_count()
+        self.assertEqual(int(r["oversubscribed"]), 1 if oversubscribed else 0)
+        self.assertEqual(v["valid"], 0 if oversubscribed else 1, "the run's own checks must pass: %s" % r)
+        self.assertGreater(v["elapsed_s"], 0)
+        for c in ("compute_s", "halo_s", "reduce_s", "comm_s", "comm_s_max", "div_rms"):
+            self.assertGreaterEqual(v[c], 0, c)
+        self.assertGreater(v["compute_s"], 0)
+        self.assertGreaterEqual(v["comm_s_max"], v["comm_s"] * (1 - 1e-8))
+        self.assertLessEqual(v["reduce_s"], v["comm_s"] * (1 + 1e-8) + 1e-12,
+                             "comm_s is halo MPI plus reductions, so at least reduce_s")
+        self.assertGreaterEqual(v["comm_fraction"], 0)
+        self.assertLessEqual(v["comm_fraction"], 1)
+        self.assertAlmostEqual(v["comm_fraction"], v["comm_s"] / v["elapsed_s"],
+                               delta=1e-6 * max(1.0, v["comm_fraction"]))
+        self.assertGreater(v["mlups"], 0)
+        expected_mlups = cells[0] * cells[1] * cells[2] * steps / v["elapsed_s"] / 1e6
+        self.assertAlmostEqual(v["mlups"], expected_mlups, delta=1e-6 * expected_mlups)
+        self.assertLess(v["div_rms"], 1e-8, "a few steps from rest keep the velocity divergence-free")
+
+        # Timing the measured steps only: every region a rank times lies inside its own
+        # measured steps, so the means of the regions add up to no more than the slowest
+        # rank's elapsed time.  (Known to fail for async runs, on one rank too; see
+        # KnownDriverBugs.test_async_region_times_stay_inside_the_measured_steps.)
+        if comm != "async":
+            self.assert_regions_inside_elapsed(v)
+
+        stamp = datetime.datetime.strptime(r["timestamp"], "%Y-%m-%dT%H:%M:%SZ").replace(
+            tzinfo=datetime.timezone.utc)
+        now = datetime.datetime.now(datetime.timezone.utc)
+        slack = datetime.timedelta(seconds=120)
+        self.assertTrue(self.started - slack <= stamp <= now + slack,
+                        "timestamp %s is not the time of the run (UTC)" % r["timestamp"])
+        return v
+
+    def assert_regions_inside_elapsed(self, v):
+        regions = v["compute_s"] + v["halo_s"] + v["reduce_s"]
+        self.assertLessEqual(regions, v["elapsed_s"] * 1.02 + 1e-4,
+                             "compute_s + halo_s + reduce_s = %.6g exceeds elapsed_s = %.6g: time outside "
+                             "the measured steps was counted" % (regions, v["elapsed_s"]))
+
+
+class BadInput(ChannelTestCase):
+    """DESIGN.md section 8: one line naming the value (and the limit it broke), exit status
+    2, before anything is allocated or written."""
+
+    # (arguments, patterns that the error line must contain, [numbers it must contain]).
+    # Each case is otherwise a short valid run, so that only the named value is at fault.
+    CASES = [
+        (SMALL + ["--no-such-option", "7"], [r"--no-such-option"]),
+        (SMALL + ["--method", "foo"], [r"\bfoo\b"]),
+        (SMALL + ["--method", "sor"], [r"\bsor\b", r"not available"]),
+        (SMALL + ["--method", "fft"], [r"\bfft\b", r"not available"]),
+        (["--cells", "10,10", "--particles", "0", "--steps", "3"], [r"--cells", r"10,10"]),
+        (["--cells", "0", "--particles", "0", "--steps", "3"], [r"--cells", r"\b0\b"]),
+        (["--cells", "16,abc,16", "--particles", "0", "--steps", "3"], [r"--cells", r"abc"]),
+        (["--cells", "2", "--particles", "0", "--steps", "3"], [r"\b2\b", r"halo"]),
+        (SMALL + ["--length", "0.9,0.9"], [r"--length", r"0\.9,0\.9"]),
+        (SMALL + ["--comm", "maybe"], [r"\bmaybe\b"]),
+        # dt over the viscous limit h^2/6 (h = 0.05625), the elastic limit 0.5 mu/G and the
+        # advective limit: the line names the limit and its value.
+        (SMALL + ["--dt", "1"], [r"\bdt\W{0,3}1\b", r"\bviscous\b", r"\blimit\b"], [PAPER_DX ** 2 / 6]),
+        (SMALL + ["--G", "1e5"], [r"\belastic\b", r"\blimit\b"], [1e5, 0.5 / 1e5]),
+        (SMALL + ["--force", "1e6", "--dt", "1e-4"], [r"\badvective\b", r"\blimit\b"], [1e-4]),
+        (SMALL + ["--dt", "-1"], [r"\bdt\b"], [-1.0]),
+        (SMALL + ["--decomp", "3,1,1"], [r"3x1x1|3,1,1"]),
+        (SMALL + ["--ns", "5"], [r"--ns\b", r"\bsor\b"]),
+        (SMALL + ["--nc", "7"], [r"--nc\b", r"\bsor\b"]),
+        (SMALL + ["--eps", "1e-3"], [r"--eps\b", r"\bsor\b"]),
+        # The default 64^3 box (3.6^3) holds 2 lattice sites.
+        (["--particles", "3", "--steps", "3"], [r"\b3\b", r"particle", r"\b2\b"]),
+        (["--cells", "8,32,8", "--length", "0.5,2,0.5", "--slab", "0.05", "--steps", "3"],
+         [r"slab"], [0.05, 2 * 0.0625]),
+        (["--cells", "8,32,8", "--length", "0.5,2,0.5", "--slab", "0.97", "--steps", "3"],
+         [r"slab"], [0.97]),
+        (["--cells", "16", "--particles", "0", "--steps", "0"], [r"--steps", r"\b0\b"]),
+        (["--cells", "16", "--particles", "0", "--steps", "-2"], [r"--steps", r"-2\b"]),
+        (SMALL + ["--every", "0"], [r"--every", r"\b0\b"]),
+        (["--cells", "16", "--particles", "0", "--steps", "3", "--t-end", "0.01"], [r"--t-end", r"--steps"]),
+        (SMALL + ["--csv", "no_such_dir/run.csv"], [r"no_such_dir/run\.csv"]),
+    ]
+
+    OUTPUTS = ["--profile", "new_profile.csv", "--series", "new_series.csv", "--centroids", "new_centroids.csv"]
+
+    def prepare_outputs(self):
+        """An existing CSV with one earlier run in it, and paths for the other outputs."""
+        with open(self.path("existing.csv"), "w") as f:
+            f.write(",".join(SECTION8_COLUMNS + ["oversubscribed"]) + "\n")
+            f.write("an earlier row\n")
+        return snapshot(self.dir)
+
+    def with_outputs(self, args):
+        """Adds an existing CSV and new --profile/--series/--centroids paths, none of which
+        a rejected run may touch; a case that names its own --csv keeps that alone (see
+        KnownDriverBugs.test_unwritable_output_creates_no_other_file)."""
+        if "--csv" in args:
+            return list(args)
+        return list(args) + ["--csv", "existing.csv"] + self.OUTPUTS
+
+    def check_error(self, res, args, patterns, values=(), ranks=1):
+        what = "channel %s on %d rank(s)" % (" ".join(args), ranks)
+        self.assertFalse(res.timed_out, "%s hung:\n%s" % (what, res))
+        lines = res.err.splitlines()
+        self.assertEqual(len(lines), 1, "%s: expected exactly one line on stderr:\n%s" % (what, res))
+        line = lines[0]
+        self.assertTrue(line.startswith("channel: "), "%s: %r" % (what, line))
+        for p in patterns:
+            self.assertRegex(line, p, "%s: the error line does not name %r" % (what, p))
+        found = numbers_in(line)
+        for x in values:
+            self.assertTrue(any(math.isclose(x, y, rel_tol=2e-3) for y in found),
+                            "%s: the error line %r does not give the value %g" % (what, line, x))
+        self.assertEqual(res.out, "", "%s: a rejected run prints nothing on stdout (it allocates nothing)" % what)
+
+    def test_bad_input_on_one_rank(self):
+        for case in self.CASES:
+            args, patterns = case[0], case[1]
+            values = case[2] if len(case) > 2 else ()
+            with self.subTest(args=" ".join(args)):
+                shutil.rmtree(self.dir)
+                os.mkdir(self.dir)
+                before = self.prepare_outputs()
+                full = self.with_outputs(args)
+                res = run(full, cwd=self.dir)
+                self.check_error(res, full, patterns, values)
+                self.assertEqual(res.rc, 2, "channel %s:\n%s" % (" ".join(full), res))
+                self.assertEqual(snapshot(self.dir), before, "channel %s created or changed a file" % " ".join(full))
+
+    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT):
+        """Runs with every rank's exit status recorded; mpiexec is told not to abort the job
+        when the first rank exits, so that each rank reports its own status."""
+        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
+        self.addCleanup(shutil.rmtree, status_dir, True)
+        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir,
+                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
+                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"})
+        statuses = {}
+        for name in sorted(os.listdir(status_dir)):
+            with open(os.path.join(status_dir, name)) as f:
+                statuses[name] = f.read().strip()
+        return res, statuses
+
+    def test_bad_input_on_two_ranks_every_rank_exits_2(self):
+        cases = [
+            (SMALL + ["--no-such-option"], [r"--no-such-option"]),
+            (SMALL + ["--decomp", "3,1,1"], [r"3x1x1|3,1,1", r"\b2\b"]),
+            (SMALL + ["--dt", "1"], [r"\bviscous\b", r"\blimit\b"]),
+            (["--particles", "3", "--steps", "3"], [r"particle"]),
+            (["--cells", "16", "--particles", "0", "--steps", "0"], [r"--steps"]),
+        ]
+        for args, patterns in cases:
+            with self.subTest(args=" ".join(args)):
+                shutil.rmtree(self.dir)
+                os.mkdir(self.dir)
+                before = self.prepare_outputs()
+                full = self.with_outputs(args)
+                res, statuses = self.run_on_two_ranks(full)
+                self.check_error(res, full, patterns, ranks=2)
+                self.assertEqual(statuses, {"rank0": "2", "rank1": "2"},
+                                 "every rank must exit with status 2:\n%s" % res)
+                self.assertEqual(snapshot(self.dir), before)
+
+    def test_two_rank_job_exits_2(self):
+        res = run(SMALL + ["--method", "foo"], ranks=2, cwd=self.dir)
+        self.assertFalse(res.timed_out, str(res))
+        self.assertEqual(res.rc, 2, str(res))
+        self.assertEqual(len([l for l in res.err.splitlines() if l.startswith("channel")]), 1, str(res))
+
+
+class Help(ChannelTestCase):
+    def test_help_lists_every_section8_option(self):
+        res = run(["--help"], cwd=self.dir)
+        self.assertEqual(res.rc, 0, str(res))
+        self.assertEqual(res.err, "")
+        listed = set(re.findall(r"--[A-Za-z][-A-Za-z0-9]*", res.out))
+        for opt in SECTION8_OPTIONS:
+            self.assertIn(opt, listed, "--help does not list %s:\n%s" % (opt, res.out))
+        self.assertEqual(os.listdir(self.dir), [])
+
+    def test_help_on_two_ranks_prints_once(self):
+        res = run(["--help"], ranks=2, cwd=self.dir)
+        self.assertEqual(res.rc, 0, str(res))
+        self.assertEqual(res.out.count("--cells"), 1, "rank 0 alone prints the help:\n%s" % res.out)
+
+
+class CsvRecord(ChannelTestCase):
+    def test_runs_append_rows_under_one_header(self):
+        csv_path = self.path("runs.csv")
+        # (ranks, comm, arguments, cells, particles, dims or None)
+        runs = [
+            (1, "sync", SMALL, (16, 16, 16), 0, (1, 1, 1)),
+            (1, "async", WITH_PARTICLES, (32, 32, 32), 2, (1, 1, 1)),
+            (2, "async", SMALL, (16, 16, 16), 0, None),
+            (2, "sync", WITH_PARTICLES, (32, 32, 32), 2, None),
+            (2, "sync", SMALL + ["--decomp", "1,2,1"], (16, 16, 16), 0, (1, 2, 1)),
+        ]
+        for n, (ranks, comm, args, cells, particles, dims) in enumerate(runs, start=1):
+            with self.subTest(ranks=ranks, comm=comm, args=" ".join(args)):
+                self.run_ok(args + ["--comm", comm, "--csv", "runs.csv"], ranks=ranks)
+                text, rows = read_table(csv_path)
+                self.assertTrue(text.endswith("\n"))
+                self.assertEqual(len(text.splitlines()), n + 1, "one header and one row per run:\n" + text)
+                header = rows[0]
+                self.check_header(header)
+                self.assertEqual(sum(1 for r in rows if r == header), 1, "the header is written once")
+                self.check_row(header, rows[n], ranks, 1, cells, 3, particles, comm, dims)
+
+    def test_eight_concurrent_runs_append_eight_whole_rows(self):
+        t0 = time.monotonic()
+        # Distinct step counts tell the rows apart: each run's row must be there once.
+        procs = [start(SMALL[:-1] + [str(steps), "--csv", "shared.csv"], cwd=self.dir) for steps in range(1, 9)]
+        results = [finish(p, RUN_TIMEOUT, t0) for p in procs]
+        for steps, res in enumerate(results, start=1):
+            self.assertFalse(res.timed_out, str(res))
+            self.assertEqual(res.rc, 0, "run with --steps %d:\n%s" % (steps, res))
+        text, rows = read_table(self.path("shared.csv"))
+        lines = text.splitlines()
+        self.assertEqual(len(lines), 9, "one header and eight rows:\n" + text)
+        self.assertTrue(text.endswith("\n"))
+        header = rows[0]
+        self.check_header(header)
+        self.assertEqual(sum(1 for line in lines if line.startswith("experiment,")), 1)
+        for row in rows[1:]:
+            self.assertEqual(len(row), len(header), "a torn or merged row: %r" % row)
+        self.assertEqual(sorted(int(dict(zip(header, r))["steps"]) for r in rows[1:]), list(range(1, 9)))
+        for row in rows[1:]:
+            steps = int(dict(zip(header, row))["steps"])
+            self.check_row(header, row, 1, 1, (16, 16, 16), steps, 0, "sync", (1, 1, 1))
+
+    def test_single_rank_comm_is_tiny(self):
+        # One rank, one thread: every halo partner is the rank itself (a local copy) and the
+        # reductions have one member, so the MPI time is a small part of the run.
+        self.run_ok(["--cells", "32", "--particles", "0", "--steps", "10", "--csv", "one.csv"])
+        _, rows = read_table(self.path("one.csv"))
+        header = rows[0]
+        v = self.check_row(header, rows[1], 1, 1, (32, 32, 32), 10, 0, "sync", (1, 1, 1))
+        self.assertLess(v["comm_fraction"], 0.05, dict(zip(header, rows[1])))
+        self.assertLess(v["comm_s"], 0.05 * v["elapsed_s"])
+        self.assertAlmostEqual(v["comm_s_max"], v["comm_s"], delta=1e-8 + 1e-6 * v["comm_s"],
+                               msg="one rank: the mean over ranks is the maximum")
+
+
+class OutputFiles(ChannelTestCase):
+    def read_numbers(self, name, columns):
+        text, rows = read_table(self.path(name))
+        self.assertEqual(rows[0][:len(columns)], columns, "%s header" % name)
+        table = []
+        for row in rows[1:]:
+            self.assertEqual(len(row), len(rows[0]), "%s: %r" % (name, row))
+            values = [float(x) for x in row]
+            self.assertTrue(all(math.isfinite(x) for x in values), "%s: %r" % (name, row))
+            table.append(dict(zip(rows[0], values)))
+        return table
+
+    def test_series_profile_and_centroids(self):
+        steps, every, dt = 5, 2, 1.25e-5
+        self.run_ok(WITH_PARTICLES[:-1] + [str(steps), "--every", str(every), "--series", "series.csv",
+                                           "--profile", "profile.csv", "--centroids", "centroids.csv"])
+        done = steps + 1  # one warm-up step, then the measured ones
+        recorded = [s for s in range(0, done + 1) if s % every == 0]
+
+        series = self.read_numbers("series.csv", ["step", "time"])
+        self.assertEqual([int(r["step"]) for r in series], recorded)
+        for r in series:
+            self.assertAlmostEqual(r["time"], r["step"] * dt, delta=1e-12)
+            self.assertLess(r["div_rms"], 1e-8)
+        # Two Evans-Fung discs in a 3.6^3 box: the solid fraction times the volume is their
+        # volume (phi0 from sub-cell samples), and it is conserved.
+        volume = 3.6 ** 3
+        for r in series:
+            self.assertAlmostEqual(r["solid_fraction"] * volume, 2 * RBC_VOLUME, delta=0.01 * 2 * RBC_VOLUME)
+            self.assertAlmostEqual(r["solid_fraction"], series[0]["solid_fraction"], delta=1e-9)
+        self.assertEqual(series[0]["kinetic"], 0.0, "the run starts from rest")
+        self.assertGreater(series[-1]["kinetic"], 0.0, "the pressure gradient drives the flow")
+
+        profile = self.read_numbers("profile.csv", ["y", "u", "phi", "Bt11", "Bt12"])
+        ny, ly = 32, 3.6
+        self.assertEqual(len(profile), ny)
+        for j, r in enumerate(profile):
+            self.assertAlmostEqual(r["y"], (j + 0.5) * ly / ny, delta=1e-7)
+            self.assertGreater(r["u"], 0.0)
+            self.assertGreaterEqual(r["phi"], -1e-9)
+            self.assertLessEqual(r["phi"], 1 + 1e-9)
+        self.assertLess(profile[0]["u"], profile[ny // 2]["u"], "no-slip walls slow the flow next to them")
+        self.assertLess(profile[0]["phi"], 1e-6, "particles stay two cells off the walls")
+        self.assertGreater(max(r["phi"] for r in profile), 0.1)
+
+        centroids = self.read_numbers("centroids.csv", ["step", "time", "region", "volume", "x", "y", "z"])
+        dx = 3.6 / 32
+        self.assertEqual(sorted({int(r["step"]) for r in centroids}), recorded)
+        for s in recorded:
+            regions = [r for r in centroids if int(r["step"]) == s]
+            self.assertEqual(len(regions), 2, "two particles at step %d: %r" % (s, regions))
+            for site in LATTICE_SITES:
+                near = [r for r in regions
+                        if math.dist((r["x"], r["y"], r["z"]), site) < dx]
+                self.assertEqual(len(near), 1, "one particle within a cell of %s at step %d: %r" % (site, s, regions))
+                self.assertAlmostEqual(near[0]["volume"], RBC_VOLUME, delta=0.2 * RBC_VOLUME)
+
+    def test_every_one_records_every_step(self):
+        self.run_ok(SMALL + ["--every", "1", "--series", "series.csv"])
+        series = self.read_numbers("series.csv", ["step"])
+        self.assertEqual([int(r["step"]) for r in series], list(range(0, 3 + 2)))
+
+    def layered_profile(self, ranks, decomp=None):
+        args = LAYERED + ["--profile", "layered_%d.csv" % ranks, "--csv", "layered.csv"]
+        if decomp:
+            args += ["--decomp", decomp]
+        self.run_ok(args, ranks=ranks)
+        return self.read_numbers("layered_%d.csv" % ranks, ["y", "u", "phi", "Bt11", "Bt12"])
+
+    def test_layered_profile(self):
+        profile = self.layered_profile(1)
+        ny, ly, a = 32, 2.0, 0.5
+        dy = ly / ny
+        self.assertEqual(len(profile), ny)
+        for j, r in enumerate(profile):
+            y = (j + 0.5) * dy
+            self.assertAlmostEqual(r["y"], y, delta=1e-9)
+            if y < a - dy or y > ly - a + dy:
+                self.assertLess(abs(r["phi"]), 1e-6, "fluid near the walls at y=%g" % y)
+                self.assertLess(abs(r["Bt11"]), 1e-6, "no solid stress in the fluid at y=%g" % y)
+            elif a + dy < y < ly - a - dy:
+                self.assertAlmostEqual(r["phi"], 1.0, delta=1e-6, msg="solid slab at y=%g" % y)
+                self.assertAlmostEqual(r["Bt11"], 1.0, delta=1e-3, msg="slab nearly unstrained at y=%g" % y)
+            self.assertGreater(r["u"], 0.0)
+        for j in range(ny // 2):  # symmetric about the centre plane
+            for c in ("u", "phi", "Bt11"):
+                self.assertAlmostEqual(profile[j][c], profile[ny - 1 - j][c], delta=1e-9 + 1e-9 * abs(profile[j][c]))
+
+        _, rows = read_table(self.path("layered.csv"))
+        r = dict(zip(rows[0], rows[1]))
+        self.assertEqual((r["experiment"], r["particles"], r["steps"]), ("layered", "0", "5"))
+
+        # The same profile on 2 ranks split across the walls' direction (sums in another order).
+        two = self.layered_profile(2, decomp="1,2,1")
+        for a_row, b_row in zip(profile, two):
+            for c in ("y", "u", "phi", "Bt11", "Bt12"):
+                self.assertAlmostEqual(a_row[c], b_row[c], delta=1e-12 + 1e-9 * abs(a_row[c]))
+        _, rows = read_table(self.path("layered.csv"))
+        self.check_row(rows[0], rows[2], 2, 1, (8, 32, 8), 5, 0, "sync", (1, 2, 1), experiment="layered")
+
+
+class KnownDriverBugs(ChannelTestCase):
+    """Bugs found by these tests, left to the driver's owner.  Each test asserts the right
+    behaviour and is expected to fail until the bug is fixed."""
+
+    @unittest.expectedFailure
+    def test_unwritable_output_on_two_ranks_does_not_hang(self):
+        # channel.cpp probes the output paths on rank 0 only (`if (is_root())
+        # check_writable(...)`): rank 0 exits 2 and waits in MPI_Finalize while rank 1 goes on
+        # into MPI_Cart_create and waits for it forever.
+        args = SMALL + ["--csv", "no_such_dir/run.csv"]
+        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
+        self.addCleanup(shutil.rmtree, status_dir, True)
+        res = run(args, ranks=2, cwd=self.dir, timeout=HANG_TIMEOUT, rank_status_dir=status_dir,
+                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
+                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"})
+        self.assertFalse(res.timed_out, "2 ranks with an unwritable --csv hang:\n%s" % res)
+        self.assertEqual(sorted(os.listdir(status_dir)), ["rank0", "rank1"])
+        for name in ("rank0", "rank1"):
+            with open(os.path.join(status_dir, name)) as f:
+                self.assertEqual(f.read().strip(), "2", name)
+        self.assertEqual(len(res.err.splitlines()), 1, str(res))
+
+    @unittest.expectedFailure
+    def test_unwritable_output_creates_no_other_file(self):
+        # check_writable opens each output path for appending, in the order --profile,
+        # --series, --centroids, --csv, and so creates the earlier files (empty) before a
+        # later path is found unwritable.
+        before = snapshot(self.dir)
+        res = run(SMALL + ["--profile", "p.csv", "--series", "s.csv", "--csv", "no_such_dir/run.csv"], cwd=self.dir)
+        self.assertEqual(res.rc, 2, str(res))
+        self.assertEqual(snapshot(self.dir), before, "files left behind: %s" % sorted(os.listdir(self.dir)))
+
+    @unittest.expectedFailure
+    def test_async_region_times_stay_inside_the_measured_steps(self):
+        # In async mode the state's halo exchange posted at the end of a step is completed by
+        # FsiSolver::diagnostics(), which the driver calls between measured steps (for the
+        # last three steps' energy budget, and for --series/--centroids) with the region
+        # timers running.  That halo MPI wait and unpack are counted in halo_s and comm_s but
+        # not in elapsed_s, so the regions add up to more than the slowest rank's time
+        # (DESIGN.md section 7: time only the measured steps).  Seen here: 6-10 % over on
+        # 2 ranks, 16^3, 3 steps.  Three runs, so that one lucky timing cannot pass it.
+        for n in range(3):
+            self.run_ok(SMALL + ["--comm", "async", "--csv", "async.csv"], ranks=2)
+        _, rows = read_table(self.path("async.csv"))
+        for row in rows[1:]:
+            r = dict(zip(rows[0], row))
+            self.assert_regions_inside_elapsed({c: float(r[c]) for c in ("compute_s", "halo_s", "reduce_s",
+                                                                          "elapsed_s")})
+
+    @unittest.expectedFailure
+    def test_negative_counts_are_rejected(self):
+        # Negative values fall back silently to the defaults: --threads -1 runs with
+        # OMP_NUM_THREADS, --particles -5 means "every site that fits", --slab -1 means no
+        # slab; none is named as malformed.
+        for extra in (SMALL + ["--threads", "-1"],
+                      ["--cells", "32", "--length", "3.6", "--steps", "3", "--particles", "-5"],
+                      ["--cells", "8,32,8", "--length", "0.5,2,0.5", "--particles", "0", "--steps", "3",
+                       "--slab", "-1"]):
+            res = run(extra, cwd=self.dir)
+            self.assertEqual(res.rc, 2, "channel %s:\n%s" % (" ".join(extra), res))
+            self.assertRegex(res.err, r"-[15]\b")
+
+
+def main():
+    global BIN_DIR
+    argv = list(sys.argv)
+    if "--bin-dir" in argv:
+        i = argv.index("--bin-dir")
+        BIN_DIR = argv[i + 1]
+        del argv[i:i + 2]
+    if not BIN_DIR:
+        sys.exit("test_channel_cli.py: give the build's bin directory with --bin-dir DIR or EFSI_BIN_DIR")
+    BIN_DIR = os.path.abspath(BIN_DIR)  # the runs start in temporary directories
+    unittest.main(argv=argv, verbosity=2)
+
+
+if __name__ == "__main__":
+    main()
