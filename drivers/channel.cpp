@@ -1,6 +1,7 @@
 // channel: one run of any configuration of the channel with particles (DESIGN.md
 // section 8). Parses, sets up, times and reports; the physics lives in kernels/.
 #include <mpi.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -21,19 +22,26 @@ namespace {
 
 struct Options {
   std::string cells = "64", length, method = "acm", comm = "sync", decomp;
-  std::optional<double> eps, t_end;
-  std::optional<int> ns, nc;
-  double dt = 1.25e-5, G = 50.0, force = 1.0, slab = 0.0;
+  std::optional<double> eps, t_end, slab, velocity_limit;
+  std::optional<int> ns, nc, particles;
+  double dt = 1.25e-5, G = 50.0, force = 1.0;
   long steps = 50;
-  int particles = -1, every = 10, threads = 0, progress = 0;
+  int every = 10, threads = 0, progress = 0;
   std::string profile, series, centroids, csv;
-  double velocity_limit = 0.0;
 };
 
+// Collective. Checks without creating anything: the directory must exist and be
+// writable, and an existing file must be writable; rank 0 looks, every rank throws.
 void check_writable(const std::string& path, const char* option) {
   if (path.empty()) return;
-  std::ofstream probe(path, std::ios::app);
-  if (!probe) throw ConfigError(std::string(option) + " '" + path + "' cannot be written");
+  int ok = 1;
+  if (is_root()) {
+    const auto slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    ok = ::access(dir.c_str(), W_OK) == 0 && (::access(path.c_str(), F_OK) != 0 || ::access(path.c_str(), W_OK) == 0);
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (!ok) throw ConfigError(std::string(option) + " '" + path + "' cannot be written");
 }
 
 std::string series_header() {
@@ -106,13 +114,31 @@ int run(const Options& o) {
     if (o.nc) throw ConfigError("--nc applies to --method sor only");
   }
   c.solver.dt = o.dt;
+  if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
+  if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
   c.solver.physics.G = o.G;
   c.solver.physics.force = o.force;
-  c.particles = o.particles;
-  c.slab = o.slab;
+  if (o.threads < 0) throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
+  if (o.progress < 0) throw ConfigError("--progress " + std::to_string(o.progress) + " must be zero or positive");
+  if (o.particles && *o.particles < 0)
+    throw ConfigError("--particles " + std::to_string(*o.particles) + " must be zero or positive");
+  if (o.slab && !(*o.slab > 0)) throw ConfigError("--slab " + std::to_string(*o.slab) + " must be positive");
+  if (o.velocity_limit && !(*o.velocity_limit > 0))
+    throw ConfigError("--velocity-limit " + std::to_string(*o.velocity_limit) + " must be positive");
+  c.slab = o.slab.value_or(0.0);
+  if (o.particles) {
+    c.particles = *o.particles;
+  } else {
+    // Default: every lattice site when the box is whole lattice cells and holds no slab.
+    c.particles = 0;
+    if (c.slab == 0) try {
+        c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
+      } catch (const ConfigError&) {
+      }
+  }
   if (!o.decomp.empty()) c.forced_dims = parse_int3(o.decomp, "--decomp");
   if (o.every < 1) throw ConfigError("--every " + std::to_string(o.every) + " must be at least 1");
-  c.solver.velocity_limit = o.velocity_limit > 0 ? o.velocity_limit : 100.0 * poiseuille_centre_velocity(c);
+  c.solver.velocity_limit = o.velocity_limit.value_or(100.0 * std::fabs(poiseuille_centre_velocity(c)));
 
   long total = o.steps + 1;  // one warm-up step, then the measured ones
   if (o.t_end) {
@@ -126,7 +152,7 @@ int run(const Options& o) {
   const std::vector<Particle> particles = validate_case(c, ranks, double(total) * o.dt);
   for (const auto& [path, opt] : {std::pair{o.profile, "--profile"}, {o.series, "--series"},
                                   {o.centroids, "--centroids"}, {o.csv, "--csv"}})
-    if (is_root()) check_writable(path, opt);
+    check_writable(path, opt);
 
   CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
   const bool over = node_oversubscribed(dec.comm(), max_threads());
@@ -165,15 +191,20 @@ int run(const Options& o) {
   double elapsed = 0.0;
   std::vector<FlowDiagnostics> tail;  // the last three steps, for the energy-budget check
   for (long s = 1; s <= measured; ++s) {
+    const long done = s + 1;  // the warm-up step came first
+    const bool want_series = (!o.series.empty() || !o.centroids.empty()) && done % o.every == 0;
+    const bool want_progress = progress > 0 && done % progress == 0;
+    const bool want_diag = want_series || want_progress || s + 3 > measured;
     const double t0 = MPI_Wtime();
     solver->step();
+    // Diagnostics need current ghosts: an async exchange is completed inside the timed
+    // step, so that every region the timers count lies within the measured time.
+    if (want_diag) solver->complete_exchange();
     elapsed += MPI_Wtime() - t0;
-    const long done = solver->steps_done();
-    const bool want_series = (!o.series.empty() || !o.centroids.empty()) && done % o.every == 0;
     std::optional<FlowDiagnostics> d;
     if (want_series) d = record();
     if (s + 3 > measured) tail.push_back(d ? *d : solver->diagnostics());
-    if (progress > 0 && done % progress == 0) {
+    if (want_progress) {
       if (!d) d = solver->diagnostics();
       if (is_root())
         std::printf("  step %8ld  t=%-10.5g beta=%-10.4g gamma=%-10.4g div_rms=%-10.3g  %.0f s left\n", done, d->time,
@@ -263,7 +294,8 @@ int main(int argc, char** argv) {
   app.add_option("--t-end", o.t_end, "run to this time instead of --steps")->excludes(steps);
   app.add_option("--G", o.G, "shear modulus")->capture_default_str();
   app.add_option("--force", o.force, "driving pressure gradient along x")->capture_default_str();
-  app.add_option("--particles", o.particles, "first K lattice sites (0: none; default: all that fit)");
+  app.add_option("--particles", o.particles,
+                 "first K lattice sites (0: none; default: all sites when the box is whole 3.6 lattice cells)");
   app.add_option("--slab", o.slab, "layered case: solid for A < y < Ly - A");
   app.add_option("--decomp", o.decomp, "force PX,PY,PZ ranks (0 entries free)");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");

@@ -39,7 +39,7 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
   choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
   if (!(c.solver.dt > 0)) throw ConfigError("dt=" + std::to_string(c.solver.dt) + " must be positive");
   const Physics& ph = c.solver.physics;
-  check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, ph.force));
+  check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, std::fabs(ph.force)));
 
   std::vector<Particle> particles;
   if (c.slab > 0) {

@@ -18,7 +18,7 @@ struct ChannelCase {
   Domain domain;
   SolverConfig solver;
   PressureKind method = PressureKind::acm;
-  int particles = -1;   // first K lattice sites; -1: every site that fits; 0: none
+  int particles = 0;    // the first K lattice sites; 0: none
   double slab = 0.0;    // > 0: the layered case, solid for slab < y < Ly - slab
   ParticleSpec particle;
   Int3 forced_dims{0, 0, 0};

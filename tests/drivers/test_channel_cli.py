@@ -15,9 +15,7 @@ or with the environment variable EFSI_BIN_DIR.  EFSI_MPIEXEC names the MPI launc
 mpiexec or mpirun on PATH).  Open MPI as root needs OMPI_ALLOW_RUN_AS_ROOT=1 and
 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1; the tests set both for the processes they start.
 
-Tests marked expectedFailure document driver bugs found by these tests; each says what the
-bug is.  When a bug is fixed its test reports an unexpected success, which fails the run:
-then remove the marker.
+DriverRegressions holds the driver bugs these tests found, each fixed since.
 """
 
 import csv
@@ -288,10 +286,8 @@ class ChannelTestCase(unittest.TestCase):
 
         # Timing the measured steps only: every region a rank times lies inside its own
         # measured steps, so the means of the regions add up to no more than the slowest
-        # rank's elapsed time.  (Known to fail for async runs, on one rank too; see
-        # KnownDriverBugs.test_async_region_times_stay_inside_the_measured_steps.)
-        if comm != "async":
-            self.assert_regions_inside_elapsed(v)
+        # rank's elapsed time.
+        self.assert_regions_inside_elapsed(v)
 
         stamp = datetime.datetime.strptime(r["timestamp"], "%Y-%m-%dT%H:%M:%SZ").replace(
             tzinfo=datetime.timezone.utc)
@@ -360,7 +356,7 @@ class BadInput(ChannelTestCase):
     def with_outputs(self, args):
         """Adds an existing CSV and new --profile/--series/--centroids paths, none of which
         a rejected run may touch; a case that names its own --csv keeps that alone (see
-        KnownDriverBugs.test_unwritable_output_creates_no_other_file)."""
+        DriverRegressions.test_unwritable_output_creates_no_other_file)."""
         if "--csv" in args:
             return list(args)
         return list(args) + ["--csv", "existing.csv"] + self.OUTPUTS
@@ -609,13 +605,12 @@ class OutputFiles(ChannelTestCase):
         self.check_row(rows[0], rows[2], 2, 1, (8, 32, 8), 5, 0, "sync", (1, 2, 1), experiment="layered")
 
 
-class KnownDriverBugs(ChannelTestCase):
-    """Bugs found by these tests, left to the driver's owner.  Each test asserts the right
-    behaviour and is expected to fail until the bug is fixed."""
+class DriverRegressions(ChannelTestCase):
+    """Bugs these tests found in the driver, fixed since: each test asserts the right
+    behaviour so that they stay fixed."""
 
-    @unittest.expectedFailure
     def test_unwritable_output_on_two_ranks_does_not_hang(self):
-        # channel.cpp probes the output paths on rank 0 only (`if (is_root())
+        # Was: channel.cpp probed the output paths on rank 0 only (`if (is_root())
         # check_writable(...)`): rank 0 exits 2 and waits in MPI_Finalize while rank 1 goes on
         # into MPI_Cart_create and waits for it forever.
         args = SMALL + ["--csv", "no_such_dir/run.csv"]
@@ -631,9 +626,8 @@ class KnownDriverBugs(ChannelTestCase):
                 self.assertEqual(f.read().strip(), "2", name)
         self.assertEqual(len(res.err.splitlines()), 1, str(res))
 
-    @unittest.expectedFailure
     def test_unwritable_output_creates_no_other_file(self):
-        # check_writable opens each output path for appending, in the order --profile,
+        # Was: check_writable opened each output path for appending, in the order --profile,
         # --series, --centroids, --csv, and so creates the earlier files (empty) before a
         # later path is found unwritable.
         before = snapshot(self.dir)
@@ -641,9 +635,8 @@ class KnownDriverBugs(ChannelTestCase):
         self.assertEqual(res.rc, 2, str(res))
         self.assertEqual(snapshot(self.dir), before, "files left behind: %s" % sorted(os.listdir(self.dir)))
 
-    @unittest.expectedFailure
     def test_async_region_times_stay_inside_the_measured_steps(self):
-        # In async mode the state's halo exchange posted at the end of a step is completed by
+        # Was: in async mode the state's halo exchange posted at the end of a step was completed by
         # FsiSolver::diagnostics(), which the driver calls between measured steps (for the
         # last three steps' energy budget, and for --series/--centroids) with the region
         # timers running.  That halo MPI wait and unpack are counted in halo_s and comm_s but
@@ -658,9 +651,8 @@ class KnownDriverBugs(ChannelTestCase):
             self.assert_regions_inside_elapsed({c: float(r[c]) for c in ("compute_s", "halo_s", "reduce_s",
                                                                           "elapsed_s")})
 
-    @unittest.expectedFailure
     def test_negative_counts_are_rejected(self):
-        # Negative values fall back silently to the defaults: --threads -1 runs with
+        # Was: negative values fell back silently to the defaults: --threads -1 runs with
         # OMP_NUM_THREADS, --particles -5 means "every site that fits", --slab -1 means no
         # slab; none is named as malformed.
         for extra in (SMALL + ["--threads", "-1"],
