@@ -129,6 +129,7 @@ double FsiSolver::project() {
   const Field& dp = work_.dp;
   Field& p = state_.p();
   const int wall_lo = -decomp_.offset()[Y];
+  const double cx = c / d.spacing(X), cy = c / d.spacing(Y), cz = c / d.spacing(Z);
   double umax = 0.0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : umax)
   for (int k = 0; k < n[Z]; ++k)
@@ -136,9 +137,9 @@ double FsiSolver::project() {
       for (int i = 0; i < n[X]; ++i) {
         p(i, j, k) += dp(i, j, k);
         const double q = dp(i, j, k);
-        const double u = work_.vstar[0](i, j, k) - c * (q - dp(i - 1, j, k)) / d.spacing(X);
-        const double v = j == wall_lo ? 0.0 : work_.vstar[1](i, j, k) - c * (q - dp(i, j - 1, k)) / d.spacing(Y);
-        const double w = work_.vstar[2](i, j, k) - c * (q - dp(i, j, k - 1)) / d.spacing(Z);
+        const double u = work_.vstar[0](i, j, k) - cx * (q - dp(i - 1, j, k));
+        const double v = j == wall_lo ? 0.0 : work_.vstar[1](i, j, k) - cy * (q - dp(i, j - 1, k));
+        const double w = work_.vstar[2](i, j, k) - cz * (q - dp(i, j, k - 1));
         state_.vel(X)(i, j, k) = u;
         state_.vel(Y)(i, j, k) = v;
         state_.vel(Z)(i, j, k) = w;
