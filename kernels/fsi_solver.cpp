@@ -11,6 +11,9 @@ namespace efsi {
 FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
                      std::unique_ptr<PressureMethod> pressure)
     : decomp_(decomp), config_(config), state_(decomp, domain), work_(decomp), pressure_(std::move(pressure)) {
+  if (config_.divergence_limit <= 0.0)
+    config_.divergence_limit =
+        0.005 * config_.velocity_limit / std::min({domain.spacing(X), domain.spacing(Y), domain.spacing(Z)});
   state_halo_ = std::make_unique<HaloExchange>(decomp, state_.all(), Reach::full, &timers_);
   vstar_halo_ = std::make_unique<HaloExchange>(
       decomp, std::vector<Field*>{&work_.vstar[0], &work_.vstar[1], &work_.vstar[2]}, Reach::faces, &timers_);
@@ -85,7 +88,7 @@ void FsiSolver::step() {
     if (config_.comm == CommMode::sync) vstar_halo_->exchange();
   }
 
-  compute_divergence();
+  const double divmax = compute_divergence();
   div_halo_->exchange();
   PressureInputs in{state_, work_, ph, dt, timers_};
   pressure_->increment(in);
@@ -95,7 +98,7 @@ void FsiSolver::step() {
   for (int c = 0; c < 6; ++c) std::swap(state_.B(c), work_.B_new[c]);
   ++steps_;
   time_ += dt;
-  if (config_.check_every > 0 && steps_ % config_.check_every == 0) check_blow_up(umax);
+  if (config_.check_every > 0 && steps_ % config_.check_every == 0) check_blow_up(umax, divmax);
 
   if (config_.comm == CommMode::async) {
     state_halo_->begin();
@@ -105,7 +108,10 @@ void FsiSolver::step() {
   }
 }
 
-void FsiSolver::compute_divergence() {
+// NaN compares false: make it infinite so that a max carries it.
+static double magnitude(double x) { return x == x ? std::fabs(x) : std::numeric_limits<double>::infinity(); }
+
+double FsiSolver::compute_divergence() {
   RegionTimers::Scope t(&timers_, Region::compute);
   const Int3 n = decomp_.local();
   const Domain& d = state_.domain();
@@ -113,12 +119,17 @@ void FsiSolver::compute_divergence() {
   const double ix = rho / d.spacing(X), iy = rho / d.spacing(Y), iz = rho / d.spacing(Z);
   const Field &u = work_.vstar[0], &v = work_.vstar[1], &w = work_.vstar[2];
   Field& div = work_.div;
-#pragma omp parallel for collapse(2) schedule(static)
+  double dmax = 0.0;
+#pragma omp parallel for collapse(2) schedule(static) reduction(max : dmax)
   for (int k = 0; k < n[Z]; ++k)
     for (int j = 0; j < n[Y]; ++j)
-      for (int i = 0; i < n[X]; ++i)
-        div(i, j, k) = (u(i + 1, j, k) - u(i, j, k)) * ix + (v(i, j + 1, k) - v(i, j, k)) * iy +
-                       (w(i, j, k + 1) - w(i, j, k)) * iz;
+      for (int i = 0; i < n[X]; ++i) {
+        const double dv = (u(i + 1, j, k) - u(i, j, k)) * ix + (v(i, j + 1, k) - v(i, j, k)) * iy +
+                         (w(i, j, k + 1) - w(i, j, k)) * iz;
+        div(i, j, k) = dv;
+        dmax = std::max(dmax, magnitude(dv));
+      }
+  return dmax;
 }
 
 double FsiSolver::project() {
@@ -143,32 +154,36 @@ double FsiSolver::project() {
         state_.vel(X)(i, j, k) = u;
         state_.vel(Y)(i, j, k) = v;
         state_.vel(Z)(i, j, k) = w;
-        const double m = std::max({std::fabs(u), std::fabs(v), std::fabs(w)});
-        // NaN compares false: make it infinite so that the max carries it.
-        umax = std::max(umax, m == m ? m : std::numeric_limits<double>::infinity());
+        umax = std::max({umax, magnitude(u), magnitude(v), magnitude(w)});
       }
   return umax;
 }
 
-void FsiSolver::check_blow_up(double local_umax) {
-  double umax = 0.0;
+void FsiSolver::check_blow_up(double local_umax, double local_divmax) {
+  const double local[2] = {local_umax, local_divmax};
+  double global[2] = {0, 0};
   {
     RegionTimers::Scope t(&timers_, Region::reduce);
-    MPI_Allreduce(&local_umax, &umax, 1, MPI_DOUBLE, MPI_MAX, decomp_.comm());
+    MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, decomp_.comm());
   }
-  if (umax <= config_.velocity_limit) return;
+  const bool velocity_bad = !(global[0] <= config_.velocity_limit);
+  if (!velocity_bad && global[1] <= config_.divergence_limit) return;
 
   // Find where: the lowest rank with a bad point tells everyone.
+  std::vector<Field*> fields;
+  double limit = config_.divergence_limit;
+  if (velocity_bad) fields = state_.all(), limit = config_.velocity_limit;
+  else fields = {&work_.div};
   char where[256] = "";
-  for (Field* f : state_.all()) {
+  for (Field* f : fields) {
     const Int3 n = f->n();
-    const bool is_velocity = f->stagger() == Stagger::face_x || f->stagger() == Stagger::face_y ||
-                             f->stagger() == Stagger::face_z;
+    const bool bounded = !velocity_bad || f->stagger() == Stagger::face_x || f->stagger() == Stagger::face_y ||
+                         f->stagger() == Stagger::face_z;
     for (int k = 0; k < n[Z] && !where[0]; ++k)
       for (int j = 0; j < n[Y] && !where[0]; ++j)
         for (int i = 0; i < n[X] && !where[0]; ++i) {
           const double x = (*f)(i, j, k);
-          if (!std::isfinite(x) || (is_velocity && std::fabs(x) > config_.velocity_limit))
+          if (!std::isfinite(x) || (bounded && std::fabs(x) > limit))
             std::snprintf(where, sizeof where, "%s = %g at global cell (%d, %d, %d)", f->name().c_str(), x,
                           f->offset()[X] + i, f->offset()[Y] + j, f->offset()[Z] + k);
         }
@@ -177,9 +192,10 @@ void FsiSolver::check_blow_up(double local_umax) {
   int mine = where[0] ? decomp_.rank() : decomp_.size(), first = 0;
   MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, decomp_.comm());
   if (first < decomp_.size()) MPI_Bcast(where, sizeof where, MPI_CHAR, first, decomp_.comm());
-  throw BlowUp("blow-up at step " + std::to_string(steps_) + " (t = " + std::to_string(time_) +
-               "): max |velocity| = " + std::to_string(umax) + " beyond the limit " +
-               std::to_string(config_.velocity_limit) + (where[0] ? std::string("; ") + where : std::string()));
+  const std::string what = velocity_bad ? "max |velocity| = " + std::to_string(global[0])
+                                        : "max |rho div v*| = " + std::to_string(global[1]);
+  throw BlowUp("blow-up at step " + std::to_string(steps_) + " (t = " + std::to_string(time_) + "): " + what +
+               " beyond the limit " + std::to_string(limit) + (where[0] ? std::string("; ") + where : std::string()));
 }
 
 FlowDiagnostics FsiSolver::diagnostics() {

@@ -17,8 +17,12 @@ struct SolverConfig {
   Physics physics;
   double dt = 1e-4;
   CommMode comm = CommMode::sync;
-  // A velocity component beyond this, or a non-finite value, stops the run (BlowUp).
+  // A velocity component beyond this, a non-finite value, or a predicted divergence
+  // rho div v* beyond divergence_limit stops the run (BlowUp). divergence_limit <= 0
+  // means 0.005 velocity_limit / dx: with velocity_limit at 100 times the flow's scale U,
+  // half of U / dx, a velocity field that is mostly compression.
   double velocity_limit = 1e3;
+  double divergence_limit = 0.0;
   int check_every = 1;  // steps between blow-up checks (one MPI_Allreduce each)
 };
 
@@ -47,9 +51,9 @@ class FsiSolver final : public Stepper {
   void complete_exchange();
 
  private:
-  void compute_divergence();
-  double project();  // returns the local max |velocity| (inf when non-finite)
-  void check_blow_up(double local_umax);
+  double compute_divergence();  // returns the local max |D*| (inf when non-finite)
+  double project();             // returns the local max |velocity| (inf when non-finite)
+  void check_blow_up(double local_umax, double local_divmax);
 
   const CartDecomposition& decomp_;
   SolverConfig config_;

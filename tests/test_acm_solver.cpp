@@ -279,3 +279,20 @@ TEST(AcmSolver, BlowUpStopsEveryRankWithStepAndPlace) {
   EXPECT_NE(what.find("global cell"), std::string::npos) << what;
   MPI_Barrier(MPI_COMM_WORLD);
 }
+
+TEST(AcmSolver, DivergenceBeyondItsBoundStopsTheRun) {
+  SolverConfig cfg;
+  cfg.dt = 1e-3;
+  cfg.divergence_limit = 1e-12;  // far below what the particles' first steps produce
+  Channel c = make_channel(MPI_COMM_WORLD, paper_block(32), {0, 0, 0}, cfg, 2);
+  std::string what;
+  try {
+    for (int s = 0; s < 50; ++s) c.solver->step();
+  } catch (const BlowUp& e) {
+    what = e.what();
+  }
+  EXPECT_NE(what.find("max |rho div v*|"), std::string::npos) << what;
+  EXPECT_NE(what.find("div* = "), std::string::npos) << what;
+  EXPECT_NE(what.find("global cell"), std::string::npos) << what;
+  MPI_Barrier(MPI_COMM_WORLD);
+}
