@@ -108,8 +108,10 @@ void FsiSolver::step() {
   }
 }
 
+namespace {
 // NaN compares false: make it infinite so that a max carries it.
-static double magnitude(double x) { return x == x ? std::fabs(x) : std::numeric_limits<double>::infinity(); }
+double magnitude(double x) { return x == x ? std::fabs(x) : std::numeric_limits<double>::infinity(); }
+}  // namespace
 
 double FsiSolver::compute_divergence() {
   RegionTimers::Scope t(&timers_, Region::compute);
