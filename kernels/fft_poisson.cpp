@@ -1,0 +1,358 @@
+#include "fft_poisson.hpp"
+
+#include <fftw3.h>
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <cstring>
+#include <functional>
+#include <mutex>
+#include <numbers>
+#include <string>
+
+#include "config_error.hpp"
+
+namespace efsi {
+
+namespace {
+
+// Index box [lo, hi) in a global index space, stored with axis ord[0] fastest.
+struct Layout {
+  Int3 lo{}, hi{};
+  Int3 ord{0, 1, 2};
+  std::int64_t ext(int a) const { return hi[a] - lo[a]; }
+  std::int64_t volume() const {
+    for (int a = 0; a < 3; ++a)
+      if (hi[a] <= lo[a]) return 0;
+    return ext(0) * ext(1) * ext(2);
+  }
+  std::int64_t pos(const Int3& g) const {
+    return (g[ord[0]] - lo[ord[0]]) +
+           ext(ord[0]) * ((g[ord[1]] - lo[ord[1]]) + ext(ord[1]) * (g[ord[2]] - lo[ord[2]]));
+  }
+};
+
+// Balanced split of n into p parts: part i is [lo, hi).
+int split_lo(int n, int p, int i) { return static_cast<int>(std::int64_t{n} * i / p); }
+
+Layout intersect(const Layout& a, const Layout& b) {
+  Layout r;
+  for (int d = 0; d < 3; ++d) {
+    r.lo[d] = std::max(a.lo[d], b.lo[d]);
+    r.hi[d] = std::min(a.hi[d], b.hi[d]);
+  }
+  return r;
+}
+
+// Visits every point of `box` in canonical order (axis 0 fastest, then 1, then 2).
+template <class F>
+void for_each_point(const Layout& box, F&& f) {
+  if (box.volume() == 0) return;
+  Int3 g;
+  for (g[2] = box.lo[2]; g[2] < box.hi[2]; ++g[2])
+    for (g[1] = box.lo[1]; g[1] < box.hi[1]; ++g[1])
+      for (g[0] = box.lo[0]; g[0] < box.hi[0]; ++g[0]) f(g);
+}
+
+MPI_Comm cart_sub(MPI_Comm cart, bool x, bool y, bool z) {
+  int remain[3] = {x, y, z};
+  MPI_Comm sub = MPI_COMM_NULL;
+  MPI_Cart_sub(cart, remain, &sub);
+  return sub;
+}
+
+// Builds the transpose inside `comm` from each member's `src(coords)` box to its
+// `dst(coords)` box; coords are the members' Cartesian coordinates in the full grid.
+void build_transpose(FftPoisson::Transpose& t, MPI_Comm comm, const Int3& my_coords, int elem,
+                     const std::function<Layout(const Int3&)>& src,
+                     const std::function<Layout(const Int3&)>& dst) {
+  t.comm = comm;
+  t.elem = elem;
+  int size = 1, rank = 0;
+  MPI_Comm_size(comm, &size);
+  MPI_Comm_rank(comm, &rank);
+  std::vector<int> all(3 * size);
+  MPI_Allgather(my_coords.data(), 3, MPI_INT, all.data(), 3, MPI_INT, comm);
+  const Layout my_src = src(my_coords), my_dst = dst(my_coords);
+  t.send_counts.assign(size, 0);
+  t.send_displs.assign(size, 0);
+  t.recv_counts.assign(size, 0);
+  t.recv_displs.assign(size, 0);
+  t.send_idx.clear();
+  t.recv_idx.clear();
+  for (int p = 0; p < size; ++p) {
+    const Int3 c{all[3 * p], all[3 * p + 1], all[3 * p + 2]};
+    const Layout out = intersect(my_src, dst(c));
+    const Layout in = intersect(src(c), my_dst);
+    t.send_displs[p] = static_cast<int>(t.send_idx.size() * elem);
+    t.recv_displs[p] = static_cast<int>(t.recv_idx.size() * elem);
+    for_each_point(out, [&](const Int3& g) { t.send_idx.push_back(my_src.pos(g)); });
+    for_each_point(in, [&](const Int3& g) { t.recv_idx.push_back(my_dst.pos(g)); });
+    t.send_counts[p] = static_cast<int>(t.send_idx.size() * elem) - t.send_displs[p];
+    t.recv_counts[p] = static_cast<int>(t.recv_idx.size() * elem) - t.recv_displs[p];
+  }
+  if (static_cast<std::int64_t>(t.send_idx.size()) != my_src.volume() ||
+      static_cast<std::int64_t>(t.recv_idx.size()) != my_dst.volume())
+    throw ConfigError("FftPoisson: pencil layouts do not cover the block (internal error)");
+  t.send_buf.resize(t.send_idx.size() * elem);
+  t.recv_buf.resize(t.recv_idx.size() * elem);
+}
+
+template <int E>
+void gather(const std::vector<std::int64_t>& idx, const double* src, double* buf) {
+  const std::int64_t n = static_cast<std::int64_t>(idx.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t m = 0; m < n; ++m)
+    for (int e = 0; e < E; ++e) buf[E * m + e] = src[E * idx[m] + e];
+}
+
+template <int E>
+void scatter(const std::vector<std::int64_t>& idx, const double* buf, double* dst) {
+  const std::int64_t n = static_cast<std::int64_t>(idx.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t m = 0; m < n; ++m)
+    for (int e = 0; e < E; ++e) dst[E * idx[m] + e] = buf[E * m + e];
+}
+
+void exchange(const std::vector<std::int64_t>& out_idx, const std::vector<std::int64_t>& in_idx, const double* from,
+              double* to, int elem, std::vector<double>& sbuf, std::vector<double>& rbuf, const std::vector<int>& sc,
+              const std::vector<int>& sd, const std::vector<int>& rc, const std::vector<int>& rd, MPI_Comm comm) {
+  if (elem == 1) gather<1>(out_idx, from, sbuf.data());
+  else gather<2>(out_idx, from, sbuf.data());
+  MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
+  if (elem == 1) scatter<1>(in_idx, rbuf.data(), to);
+  else scatter<2>(in_idx, rbuf.data(), to);
+}
+
+std::once_flag fftw_threads_once;
+
+}  // namespace
+
+void FftPoisson::Transpose::forward(const double* src, double* dst) {
+  exchange(send_idx, recv_idx, src, dst, elem, send_buf, recv_buf, send_counts, send_displs, recv_counts,
+           recv_displs, comm);
+}
+
+void FftPoisson::Transpose::backward(const double* dst, double* src) {
+  exchange(recv_idx, send_idx, dst, src, elem, recv_buf, send_buf, recv_counts, recv_displs, send_counts,
+           send_displs, comm);
+}
+
+void FftPoisson::FftwBuf::operator()(void* p) const noexcept { fftw_free(p); }
+
+FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Planning planning) {
+  n_global_ = decomp.global();
+  n_local_ = decomp.local();
+  if (domain.cells != n_global_)
+    throw ConfigError("FftPoisson: domain cells " + to_string(domain.cells) + " differ from the decomposition's " +
+                      to_string(n_global_));
+  for (int a = 0; a < 3; ++a) inv_h2_[a] = 1.0 / (domain.spacing(a) * domain.spacing(a));
+  const int NX = n_global_[X], NY = n_global_[Y], NZ = n_global_[Z];
+  const Int3 P = decomp.dims();
+  const Int3 me = decomp.coords();
+  for (int a = 0; a < 3; ++a)
+    if (decomp.offset()[a] != split_lo(n_global_[a], P[a], me[a]))
+      throw ConfigError("FftPoisson: unexpected block offsets (internal error)");
+  mx_ = NX / 2 + 1;
+  const int MX = mx_;
+  const Int3 NG = n_global_;
+
+  // The four layouts, as functions of a rank's Cartesian coordinates.
+  auto block = [=](const Int3& c) {
+    Layout l;
+    for (int a = 0; a < 3; ++a) l.lo[a] = split_lo(NG[a], P[a], c[a]), l.hi[a] = split_lo(NG[a], P[a], c[a] + 1);
+    l.ord = {0, 1, 2};
+    return l;
+  };
+  auto ysub = [=](const Int3& c, int& lo, int& hi) {  // Y_cy split Px ways, part cx
+    const int y0 = split_lo(NY, P[Y], c[Y]), ny = split_lo(NY, P[Y], c[Y] + 1) - y0;
+    lo = y0 + split_lo(ny, P[X], c[X]);
+    hi = y0 + split_lo(ny, P[X], c[X] + 1);
+  };
+  auto xpencil = [=](const Int3& c, int nxr) {
+    Layout l = block(c);
+    l.lo[X] = 0, l.hi[X] = nxr;
+    ysub(c, l.lo[Y], l.hi[Y]);
+    l.ord = {0, 1, 2};
+    return l;
+  };
+  auto zpencil = [=](const Int3& c) {
+    Layout l;
+    l.lo[X] = split_lo(MX, P[Z], c[Z]), l.hi[X] = split_lo(MX, P[Z], c[Z] + 1);
+    ysub(c, l.lo[Y], l.hi[Y]);
+    l.lo[Z] = 0, l.hi[Z] = NZ;
+    l.ord = {2, 0, 1};
+    return l;
+  };
+  auto ypencil = [=](const Int3& c) {
+    Layout l;
+    l.lo[X] = split_lo(MX, P[Z], c[Z]), l.hi[X] = split_lo(MX, P[Z], c[Z] + 1);
+    l.lo[Y] = 0, l.hi[Y] = NY;
+    const int pxy = P[X] * P[Y], r = c[X] * P[Y] + c[Y];
+    l.lo[Z] = split_lo(NZ, pxy, r), l.hi[Z] = split_lo(NZ, pxy, r + 1);
+    l.ord = {1, 0, 2};
+    return l;
+  };
+
+  comm_x_ = cart_sub(decomp.comm(), true, false, false);
+  comm_z_ = cart_sub(decomp.comm(), false, false, true);
+  comm_xy_ = cart_sub(decomp.comm(), true, true, false);
+  build_transpose(t1_, comm_x_, me, 1, block, [&](const Int3& c) { return xpencil(c, NX); });
+  build_transpose(t2_, comm_z_, me, 2, [&](const Int3& c) { return xpencil(c, MX); }, zpencil);
+  build_transpose(t3_, comm_xy_, me, 2, zpencil, ypencil);
+
+  const Layout l0 = block(me), l1 = xpencil(me, NX), l2 = zpencil(me), l3 = ypencil(me);
+  lines_x_ = l1.ext(Y) * l1.ext(Z);
+  lines_z_ = l2.volume() / NZ;
+  kx0_ = l3.lo[X], nkx_ = static_cast<int>(l3.ext(X));
+  kz0_ = l3.lo[Z], nkz_ = static_cast<int>(l3.ext(Z));
+
+  auto alloc = [](std::int64_t doubles) { return Buf(fftw_alloc_real(static_cast<size_t>(std::max<std::int64_t>(doubles, 2)))); };
+  b0_ = alloc(l0.volume());
+  b1_ = alloc(l1.volume());
+  b1c_ = alloc(2 * lines_x_ * MX);
+  b2_ = alloc(2 * l2.volume());
+  b3_ = alloc(2 * l3.volume());
+
+  std::call_once(fftw_threads_once, [] { fftw_init_threads(); });
+  fftw_plan_with_nthreads(omp_get_max_threads());
+  const unsigned flags = planning == Planning::measure ? FFTW_MEASURE : FFTW_ESTIMATE;
+  if (lines_x_ > 0) {
+    int n[1] = {NX};
+    const int how = static_cast<int>(lines_x_);
+    auto* c = reinterpret_cast<fftw_complex*>(b1c_.get());
+    plan_r2c_ = fftw_plan_many_dft_r2c(1, n, how, b1_.get(), nullptr, 1, NX, c, nullptr, 1, MX, flags);
+    plan_c2r_ = fftw_plan_many_dft_c2r(1, n, how, c, nullptr, 1, MX, b1_.get(), nullptr, 1, NX, flags);
+  }
+  if (lines_z_ > 0) {
+    int n[1] = {NZ};
+    const int how = static_cast<int>(lines_z_);
+    auto* c = reinterpret_cast<fftw_complex*>(b2_.get());
+    plan_zf_ = fftw_plan_many_dft(1, n, how, c, nullptr, 1, NZ, c, nullptr, 1, NZ, FFTW_FORWARD, flags);
+    plan_zb_ = fftw_plan_many_dft(1, n, how, c, nullptr, 1, NZ, c, nullptr, 1, NZ, FFTW_BACKWARD, flags);
+  }
+  if ((lines_x_ > 0 && (!plan_r2c_ || !plan_c2r_)) || (lines_z_ > 0 && (!plan_zf_ || !plan_zb_)))
+    throw ConfigError("FftPoisson: FFTW could not make a plan");
+
+  constexpr double pi = std::numbers::pi;
+  lam_x_.resize(MX);
+  for (int k = 0; k < MX; ++k) {
+    const double s = std::sin(pi * k / NX);
+    lam_x_[k] = -4.0 * inv_h2_[X] * s * s;
+  }
+  lam_z_.resize(NZ);
+  for (int k = 0; k < NZ; ++k) {
+    const double s = std::sin(pi * k / NZ);
+    lam_z_[k] = -4.0 * inv_h2_[Z] * s * s;
+  }
+}
+
+FftPoisson::~FftPoisson() {
+  for (void* p : {plan_r2c_, plan_c2r_, plan_zf_, plan_zb_})
+    if (p) fftw_destroy_plan(static_cast<fftw_plan>(p));
+  for (MPI_Comm* c : {&comm_x_, &comm_z_, &comm_xy_})
+    if (*c != MPI_COMM_NULL) MPI_Comm_free(c);
+}
+
+std::int64_t FftPoisson::doubles_sent() const {
+  std::int64_t s = 0;
+  for (const Transpose* t : {&t1_, &t2_, &t3_}) {
+    int self = 0;
+    MPI_Comm_rank(t->comm, &self);
+    for (std::size_t p = 0; p < t->send_counts.size(); ++p)
+      if (static_cast<int>(p) != self) s += t->send_counts[p] + t->recv_counts[p];
+  }
+  return s;
+}
+
+void FftPoisson::solve(const Field& rhs, Field& x) {
+  if (rhs.stagger() != Stagger::cell || x.stagger() != Stagger::cell || rhs.n() != n_local_ || x.n() != n_local_)
+    throw ConfigError("FftPoisson::solve: rhs and x must be cell-centred fields of the solver's decomposition");
+  const int nx = n_local_[X], ny = n_local_[Y], nz = n_local_[Z];
+  const int NX = n_global_[X], NY = n_global_[Y], NZ = n_global_[Z];
+
+  double* b0 = b0_.get();
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      std::memcpy(b0 + nx * (j + std::int64_t{ny} * k), rhs.data() + rhs.index(0, j, k), sizeof(double) * nx);
+
+  // Forward: x-pencil, r2c along x; z-pencil, c2c along z; y-pencil.
+  t1_.forward(b0, b1_.get());
+  if (plan_r2c_) fftw_execute(static_cast<fftw_plan>(plan_r2c_));
+  t2_.forward(b1c_.get(), b2_.get());
+  if (plan_zf_) fftw_execute(static_cast<fftw_plan>(plan_zf_));
+  t3_.forward(b2_.get(), b3_.get());
+
+  // Tridiagonal solves along y (contiguous lines, kx next, kz slowest).  The 1/(NX NZ)
+  // of the unnormalised inverse transforms is folded in here.
+  {
+    using C = std::complex<double>;
+    C* b3 = reinterpret_cast<C*>(b3_.get());
+    const double scale = 1.0 / (double(NX) * NZ);
+    const double a = inv_h2_[Y];
+    const double dy2 = 1.0 / a;
+    const int nkx = nkx_, nkz = nkz_, kx0 = kx0_, kz0 = kz0_;
+#pragma omp parallel
+    {
+      std::vector<double> cp(NY);
+      std::vector<C> dp(NY);
+#pragma omp for collapse(2) schedule(static)
+      for (int kz = 0; kz < nkz; ++kz)
+        for (int kx = 0; kx < nkx; ++kx) {
+          C* line = b3 + NY * (kx + std::int64_t{nkx} * kz);
+          const double lam = lam_x_[kx0 + kx] + lam_z_[kz0 + kz];
+          if (kx0 + kx == 0 && kz0 + kz == 0) {
+            // Singular mode: remove the mean of the rhs (compatibility), integrate the
+            // flux from the bottom wall, x_{j+1} - x_j = dy^2 sum_{i<=j} r_i, then zero mean.
+            C mean = 0;
+            for (int j = 0; j < NY; ++j) mean += line[j];
+            mean /= double(NY);
+            C s = 0, v = 0, sum = 0;
+            for (int j = 0; j < NY; ++j) {
+              const C r = (line[j] - mean) * scale;
+              line[j] = v;
+              sum += v;
+              s += r;
+              v += dy2 * s;
+            }
+            const C vm = sum / double(NY);
+            for (int j = 0; j < NY; ++j) line[j] -= vm;
+            continue;
+          }
+          if (NY == 1) {
+            line[0] = line[0] * scale / lam;
+            continue;
+          }
+          // Rows: a x_{j-1} + b_j x_j + a x_{j+1} = r_j; wall rows b = -a + lam.
+          double b = -a + lam;
+          cp[0] = a / b;
+          dp[0] = line[0] * scale / b;
+          for (int j = 1; j < NY; ++j) {
+            const double bj = (j == NY - 1 ? -a : -2 * a) + lam;
+            const double m = bj - a * cp[j - 1];
+            cp[j] = a / m;
+            dp[j] = (line[j] * scale - a * dp[j - 1]) / m;
+          }
+          line[NY - 1] = dp[NY - 1];
+          for (int j = NY - 2; j >= 0; --j) line[j] = dp[j] - cp[j] * line[j + 1];
+        }
+    }
+  }
+
+  // Backward.
+  t3_.backward(b3_.get(), b2_.get());
+  if (plan_zb_) fftw_execute(static_cast<fftw_plan>(plan_zb_));
+  t2_.backward(b2_.get(), b1c_.get());
+  if (plan_c2r_) fftw_execute(static_cast<fftw_plan>(plan_c2r_));
+  t1_.backward(b1_.get(), b0);
+
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < nz; ++k)
+    for (int j = 0; j < ny; ++j)
+      std::memcpy(&x(0, j, k), b0 + nx * (j + std::int64_t{ny} * k), sizeof(double) * nx);
+}
+
+}  // namespace efsi

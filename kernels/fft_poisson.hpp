@@ -1,0 +1,86 @@
+#pragma once
+// Exact solver of the discrete pressure Poisson equation (DESIGN.md section 3.3).
+//
+// Lap x = rhs on the cell centres, with Lap the 7-point operator of acm.hpp's `laplacian`:
+// periodic in x and z, zero flux through the walls in y (even-mirrored ghosts).
+// Real FFT (FFTW r2c/c2r) along x, complex FFT along z on the r2c output, where Lap has
+// the eigenvalues -(4/h^2) sin^2(pi k/N); then, for every (kx, kz), the tridiagonal system
+// in y with zero-flux wall rows, by the Thomas algorithm.  The (0,0) mode is singular:
+// its right-hand side is made compatible (the mean of rhs is removed) and its solution is
+// shifted to zero mean, so the returned x has zero volume mean.
+//
+// Parallel on any Cartesian decomposition Px x Py x Pz, with three pencil transposes
+// (MPI_Alltoallv, uneven blocks allowed) on Cartesian sub-communicators:
+//   block (X_cx, Y_cy, Z_cz)
+//     -- x-row comm (Px) -->   x-pencil (all x, Y_cy split Px ways, Z_cz)        x r2c
+//     -- z-row comm (Pz) -->   z-pencil (kx split Pz ways, same y, all z)        z c2c
+//     -- xy-plane comm (PxPy) --> y-pencil (same kx, all y, kz split PxPy ways)  Thomas
+// and back the same way.  Nothing is gathered onto one rank.
+#include <mpi.h>
+
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "decomposition.hpp"
+#include "domain.hpp"
+#include "field.hpp"
+
+namespace efsi {
+
+class FftPoisson {
+ public:
+  // estimate: FFTW_ESTIMATE (instant set-up); measure: FFTW_MEASURE (set-up times the
+  // candidate plans once, faster solves).  Plans are made here once and reused.
+  enum class Planning { estimate, measure };
+
+  // Collective over decomp.comm().  domain.cells must equal decomp.global().
+  // FFTW runs with omp_get_max_threads() threads.
+  FftPoisson(const CartDecomposition& decomp, const Domain& domain, Planning planning = Planning::measure);
+  ~FftPoisson();
+  FftPoisson(const FftPoisson&) = delete;
+  FftPoisson& operator=(const FftPoisson&) = delete;
+
+  // Reads rhs on the owned cells, writes x on the owned cells (ghosts untouched).
+  // rhs and x: cell-centred fields of the constructor's decomposition.  Collective.
+  // Solves Lap x = rhs - <rhs> with <x> = 0.
+  void solve(const Field& rhs, Field& x);
+
+  // Doubles this rank sends through MPI_Alltoallv in one solve (all six transposes).
+  std::int64_t doubles_sent() const;
+
+  // One pencil transpose between two box layouts inside a sub-communicator.
+  struct Transpose {
+    MPI_Comm comm = MPI_COMM_NULL;
+    int elem = 1;  // doubles per element (1 real, 2 complex)
+    std::vector<std::int64_t> send_idx, recv_idx;  // element positions in src / dst buffers
+    std::vector<int> send_counts, send_displs, recv_counts, recv_displs;  // in doubles
+    std::vector<double> send_buf, recv_buf;
+    void forward(const double* src, double* dst);   // src layout -> dst layout
+    void backward(const double* dst, double* src);  // dst layout -> src layout
+  };
+
+ private:
+  struct FftwBuf {
+    void operator()(void* p) const noexcept;
+  };
+  using Buf = std::unique_ptr<double[], FftwBuf>;
+
+  Int3 n_global_{}, n_local_{};
+  double inv_h2_[3]{};
+  int mx_ = 0;                 // Nx/2 + 1
+  std::int64_t lines_x_ = 0;   // x-lines on this rank in the x-pencil
+  std::int64_t lines_z_ = 0;   // z-lines in the z-pencil
+  int kx0_ = 0, nkx_ = 0;      // kx range of the z- and y-pencils
+  int kz0_ = 0, nkz_ = 0;      // kz range of the y-pencil
+  MPI_Comm comm_x_ = MPI_COMM_NULL, comm_z_ = MPI_COMM_NULL, comm_xy_ = MPI_COMM_NULL;
+  Transpose t1_, t2_, t3_;
+  Buf b0_, b1_, b1c_, b2_, b3_;
+  void* plan_r2c_ = nullptr;
+  void* plan_c2r_ = nullptr;
+  void* plan_zf_ = nullptr;
+  void* plan_zb_ = nullptr;
+  std::vector<double> lam_x_, lam_z_;  // eigenvalues of the x and z parts of Lap
+};
+
+}  // namespace efsi
