@@ -1,0 +1,154 @@
+#include "sor_poisson.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "acm.hpp"
+#include "config_error.hpp"
+
+namespace efsi {
+
+namespace {
+
+// Runs before the HaloExchange member is built, so that a bad set-up throws on every
+// rank before anything collective.
+Field& checked(const CartDecomposition& decomp, const Domain& domain, Field& x, double omega) {
+  const Int3& g = decomp.global();
+  if (g[X] % 2 != 0 || g[Z] % 2 != 0)
+    throw ConfigError("four-colour SOR needs even global cell counts in the periodic directions x and z "
+                      "(the colouring (i mod 2) + 2 ((j + k) mod 2) would give neighbours across the wrap the "
+                      "same colour); grid is " + to_string(g));
+  if (domain.cells != g)
+    throw ConfigError("SOR: domain cells " + to_string(domain.cells) + " differ from the decomposition's grid " +
+                      to_string(g));
+  if (x.stagger() != Stagger::cell || x.halo() < 1 || x.spec().parity != WallParity::even)
+    throw ConfigError("SOR: field '" + x.name() + "' must be cell-centred with halo >= 1 and even wall parity");
+  if (x.n() != decomp.local() || x.offset() != decomp.offset())
+    throw ConfigError("SOR: field '" + x.name() + "' does not belong to this decomposition");
+  if (!(omega > 0.0 && omega < 2.0)) throw ConfigError("SOR: omega must lie in (0, 2), got " + std::to_string(omega));
+  return x;
+}
+
+}  // namespace
+
+SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, SorComm comm,
+                       RegionTimers* timers, double omega)
+    : decomp_(decomp),
+      x_(checked(decomp, domain, x, omega)),
+      comm_(comm),
+      timers_(timers),
+      omega_(omega),
+      halo_(decomp, {&x}, Reach::faces, timers) {
+  for (int a = 0; a < 3; ++a) {
+    const double h = domain.spacing(a);
+    inv_h2_[a] = 1.0 / (h * h);
+  }
+  const Int3& n = x.n();
+  const int ny_global = decomp.global()[Y];
+  wy_lo_.resize(n[Y]);
+  wy_hi_.resize(n[Y]);
+  omega_over_diag_.resize(n[Y]);
+  for (int j = 0; j < n[Y]; ++j) {
+    const int gj = x.offset()[Y] + j;
+    wy_lo_[j] = gj == 0 ? 0.0 : inv_h2_[Y];
+    wy_hi_[j] = gj == ny_global - 1 ? 0.0 : inv_h2_[Y];
+    const double diag = 2.0 * inv_h2_[X] + 2.0 * inv_h2_[Z] + wy_lo_[j] + wy_hi_[j];
+    omega_over_diag_[j] = omega / diag;
+  }
+  owned_ = Box{{0, 0, 0}, n};
+  inner_ = Box{{1, 1, 1}, {n[X] - 1, n[Y] - 1, n[Z] - 1}};
+  if (inner_.empty()) inner_ = Box{};  // for_each_shell_box: everything is boundary
+}
+
+void SorPoisson::update(const Field& rhs, int colour, const Box& b) {
+  if (b.empty()) return;
+  const int px = colour & 1, pyz = colour >> 1;
+  const Int3& off = x_.offset();
+  const std::ptrdiff_t sy = x_.stride_y(), sz = x_.stride_z();
+  const double ax = inv_h2_[X], az = inv_h2_[Z], keep = 1.0 - omega_;
+  double* const xd = x_.data();
+  const double* const rd = rhs.data();
+  const bool same_layout = rhs.stride_y() == sy && rhs.stride_z() == sz;
+#pragma omp parallel for schedule(static)
+  for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
+    for (int j = b.lo[Y]; j < b.hi[Y]; ++j) {
+      if (((off[Y] + j + off[Z] + k) & 1) != pyz) continue;
+      int i0 = b.lo[X];
+      if (((off[X] + i0) & 1) != px) ++i0;
+      double* const r = xd + x_.index(0, j, k);
+      const double* const f = same_layout ? rd + rhs.index(0, j, k) : nullptr;
+      const double wlo = wy_lo_[j], whi = wy_hi_[j], wd = omega_over_diag_[j];
+      if (same_layout) {
+#pragma omp simd
+        for (int i = i0; i < b.hi[X]; i += 2) {
+          const double s = ax * (r[i - 1] + r[i + 1]) + (wlo * r[i - sy] + whi * r[i + sy]) +
+                           az * (r[i - sz] + r[i + sz]) - f[i];
+          r[i] = keep * r[i] + wd * s;
+        }
+      } else {
+        for (int i = i0; i < b.hi[X]; i += 2) {
+          const double s = ax * (r[i - 1] + r[i + 1]) + (wlo * r[i - sy] + whi * r[i + sy]) +
+                           az * (r[i - sz] + r[i + sz]) - rhs(i, j, k);
+          r[i] = keep * r[i] + wd * s;
+        }
+      }
+    }
+  }
+}
+
+void SorPoisson::update_interior(const Field& rhs, int colour) {
+  RegionTimers::Scope t(timers_, Region::sor_sweeps);
+  update(rhs, colour, inner_);
+}
+
+void SorPoisson::update_boundary(const Field& rhs, int colour) {
+  RegionTimers::Scope t(timers_, Region::sor_sweeps);
+  for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, colour, b); });
+}
+
+void SorPoisson::sweeps(const Field& rhs, int n) {
+  if (n <= 0) return;
+  if (comm_ == SorComm::sync) {
+    halo_.exchange();
+    for (int s = 0; s < n; ++s)
+      for (int c = 0; c < 4; ++c) {
+        {
+          RegionTimers::Scope t(timers_, Region::sor_sweeps);
+          update(rhs, c, owned_);
+        }
+        halo_.exchange();
+      }
+  } else {
+    // The exchange in flight always carries the previous colour (or the caller's field).
+    halo_.begin();
+    for (int s = 0; s < n; ++s)
+      for (int c = 0; c < 4; ++c) {
+        update_interior(rhs, c);
+        halo_.finish();
+        update_boundary(rhs, c);
+        halo_.begin();
+      }
+    halo_.finish();
+  }
+}
+
+double SorPoisson::residual_rms(const Field& rhs) {
+  halo_.exchange();
+  const Int3& n = x_.n();
+  double sum = 0.0;
+#pragma omp parallel for collapse(2) schedule(static) reduction(+ : sum)
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) {
+        const double r = rhs(i, j, k) - laplacian(x_, inv_h2_, i, j, k);
+        sum += r * r;
+      }
+  double total = 0.0;
+  {
+    RegionTimers::Scope t(timers_, Region::reduce);
+    MPI_Allreduce(&sum, &total, 1, MPI_DOUBLE, MPI_SUM, decomp_.comm());
+  }
+  return std::sqrt(total / static_cast<double>(product(decomp_.global())));
+}
+
+}  // namespace efsi

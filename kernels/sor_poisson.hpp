@@ -1,0 +1,71 @@
+#pragma once
+// Four-colour SOR for the discrete pressure Poisson equation Lap x = rhs (DESIGN.md 3.2).
+//
+// Lap is the 7-point operator of acm.hpp (`laplacian`): periodic in x and z, zero flux
+// through the walls in y.  A cell's colour comes from its GLOBAL indices,
+// c = (i mod 2) + 2 ((j + k) mod 2), so the six neighbours of a cell never share its
+// colour (this needs even global counts in x and z, the periodic directions; y has walls
+// and may be odd).  A sweep updates colour 0, 1, 2, 3 in turn with
+//   x <- (1 - omega) x + omega (sum_nb w_nb x_nb - rhs) / (sum_nb w_nb),
+// w = 1/h^2 per axis; at a wall the neighbour across it is dropped (weight 0 and a smaller
+// diagonal), which is the exact Gauss-Seidel update for the zero-flux operator.  Each
+// colour reads only other colours, so the field after n sweeps is bitwise the same on
+// every decomposition, every thread count, and in both communication modes:
+//   sync:  a blocking halo exchange (Reach::faces) of x after every colour;
+//   async: begin() the exchange of the colour just updated, update the next colour's
+//          interior points (all six neighbours owned) while it flies, finish(), then
+//          update that colour's points next to the subdomain boundary.
+// The whole field travels each time (sending only the updated colour would halve it).
+#include <vector>
+
+#include "decomposition.hpp"
+#include "domain.hpp"
+#include "field.hpp"
+#include "halo_exchange.hpp"
+#include "region_timers.hpp"
+
+namespace efsi {
+
+enum class SorComm { sync, async };
+
+class SorPoisson {
+ public:
+  // x: cell-centred, halo >= 1, WallParity::even, on `decomp`.  Throws ConfigError (on
+  // every rank alike, before any communication) for odd global x or z counts, a domain
+  // that does not match the decomposition, or an unsuitable field.
+  SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, SorComm comm,
+             RegionTimers* timers = nullptr, double omega = 1.6);
+  SorPoisson(const SorPoisson&) = delete;
+  SorPoisson& operator=(const SorPoisson&) = delete;
+
+  // n full sweeps of Lap x = rhs on the owned cells (collective).  x's ghosts are brought
+  // up to date first and are current again on return.  rhs: only owned cells are read.
+  void sweeps(const Field& rhs, int n);
+
+  // Collective: RMS over all owned cells of rhs - Lap x, after a ghost update of x.
+  double residual_rms(const Field& rhs);
+
+  static int colour(int gi, int gj, int gk) { return (gi & 1) + 2 * ((gj + gk) & 1); }
+
+  double omega() const { return omega_; }
+  SorComm comm_mode() const { return comm_; }
+  const HaloExchange& halo() const { return halo_; }
+
+ private:
+  void update(const Field& rhs, int colour, const Box& box);
+  void update_interior(const Field& rhs, int colour);
+  void update_boundary(const Field& rhs, int colour);
+
+  const CartDecomposition& decomp_;
+  Field& x_;
+  SorComm comm_;
+  RegionTimers* timers_;
+  double omega_;
+  double inv_h2_[3];
+  // Per local j: weights of the y neighbours below/above (0 across a wall) and omega / diag.
+  std::vector<double> wy_lo_, wy_hi_, omega_over_diag_;
+  Box owned_, inner_;
+  HaloExchange halo_;
+};
+
+}  // namespace efsi
