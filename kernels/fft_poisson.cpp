@@ -116,9 +116,23 @@ void scatter(const std::vector<std::int64_t>& idx, const double* buf, double* ds
     for (int e = 0; e < E; ++e) dst[E * idx[m] + e] = buf[E * m + e];
 }
 
+template <int E>
+void permute(const std::vector<std::int64_t>& out_idx, const std::vector<std::int64_t>& in_idx, const double* from,
+             double* to) {
+  const std::int64_t n = static_cast<std::int64_t>(out_idx.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t m = 0; m < n; ++m)
+    for (int e = 0; e < E; ++e) to[E * in_idx[m] + e] = from[E * out_idx[m] + e];
+}
+
 void exchange(const std::vector<std::int64_t>& out_idx, const std::vector<std::int64_t>& in_idx, const double* from,
               double* to, int elem, std::vector<double>& sbuf, std::vector<double>& rbuf, const std::vector<int>& sc,
               const std::vector<int>& sd, const std::vector<int>& rc, const std::vector<int>& rd, MPI_Comm comm) {
+  if (sc.size() == 1) {  // a one-rank sub-communicator: a local reordering, no MPI
+    if (elem == 1) permute<1>(out_idx, in_idx, from, to);
+    else permute<2>(out_idx, in_idx, from, to);
+    return;
+  }
   if (elem == 1) gather<1>(out_idx, from, sbuf.data());
   else gather<2>(out_idx, from, sbuf.data());
   MPI_Alltoallv(sbuf.data(), sc.data(), sd.data(), MPI_DOUBLE, rbuf.data(), rc.data(), rd.data(), MPI_DOUBLE, comm);
