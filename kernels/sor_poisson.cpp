@@ -69,7 +69,7 @@ void SorPoisson::update(const Field& rhs, int colour, const Box& b) {
   double* const xd = x_.data();
   const double* const rd = rhs.data();
   const bool same_layout = rhs.stride_y() == sy && rhs.stride_z() == sz;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for collapse(2) schedule(static) if (b.volume() >= 32768)
   for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
     for (int j = b.lo[Y]; j < b.hi[Y]; ++j) {
       if (((off[Y] + j + off[Z] + k) & 1) != pyz) continue;
