@@ -10,23 +10,12 @@
 #include <cstring>
 
 #include "solver_fixtures.hpp"
+#include "mpi_test_support.hpp"
 
 using namespace efsi;
 using namespace efsi::testing;
 
 namespace {
-
-int world_size() {
-  int p = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &p);
-  return p;
-}
-
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
 
 // Max error of the x-z mean of u against the series solution at time t.
 double poiseuille_error(int ny, CommMode mode) {
@@ -264,17 +253,26 @@ TEST(AcmSolver, EnergyBudgetCloses) {
   EXPECT_NEAR(last.solid_fraction, d.front().solid_fraction, 5e-3 * d.front().solid_fraction);
 }
 
+namespace {
+
+// Steps the paper's block with its 2 particles until a BlowUp; its message, or "".
+std::string blow_up_message(const SolverConfig& cfg, int max_steps) {
+  Channel c = make_channel(MPI_COMM_WORLD, paper_block(32), {0, 0, 0}, cfg, 2);
+  try {
+    for (int s = 0; s < max_steps; ++s) c.solver->step();
+  } catch (const BlowUp& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
 TEST(AcmSolver, BlowUpStopsEveryRankWithStepAndPlace) {
   SolverConfig cfg;
   cfg.dt = 0.05;  // 25 times the viscous limit
   cfg.velocity_limit = 10.0;
-  Channel c = make_channel(MPI_COMM_WORLD, paper_block(32), {0, 0, 0}, cfg, 2);
-  std::string what;
-  try {
-    for (int s = 0; s < 200; ++s) c.solver->step();
-  } catch (const BlowUp& e) {
-    what = e.what();
-  }
+  const std::string what = blow_up_message(cfg, 200);
   EXPECT_NE(what.find("blow-up at step"), std::string::npos) << what;
   EXPECT_NE(what.find("global cell"), std::string::npos) << what;
   MPI_Barrier(MPI_COMM_WORLD);
@@ -284,13 +282,7 @@ TEST(AcmSolver, DivergenceBeyondItsBoundStopsTheRun) {
   SolverConfig cfg;
   cfg.dt = 1e-3;
   cfg.divergence_limit = 1e-12;  // far below what the particles' first steps produce
-  Channel c = make_channel(MPI_COMM_WORLD, paper_block(32), {0, 0, 0}, cfg, 2);
-  std::string what;
-  try {
-    for (int s = 0; s < 50; ++s) c.solver->step();
-  } catch (const BlowUp& e) {
-    what = e.what();
-  }
+  const std::string what = blow_up_message(cfg, 50);
   EXPECT_NE(what.find("max |rho div v*|"), std::string::npos) << what;
   EXPECT_NE(what.find("div* = "), std::string::npos) << what;
   EXPECT_NE(what.find("global cell"), std::string::npos) << what;

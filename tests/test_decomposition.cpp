@@ -7,31 +7,14 @@
 
 #include "config_error.hpp"
 #include "decomposition.hpp"
+#include "mpi_test_support.hpp"
 
 using efsi::CartDecomposition;
 using efsi::ConfigError;
 using efsi::Int3;
 
-namespace {
-
-int world_size() {
-  int n = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &n);
-  return n;
-}
-
-// Runs f, which must throw ConfigError, and returns its message.
-template <class F>
-std::string config_error_of(F&& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "<no ConfigError thrown>";
-}
-
-}  // namespace
+using efsi::testing::config_error_of;
+using efsi::testing::world_size;
 
 TEST(ChooseDims, FollowsMpiDimsCreateWhenItDivides) {
   EXPECT_EQ(efsi::choose_dims(8, {64, 64, 64}, 3), (Int3{2, 2, 2}));

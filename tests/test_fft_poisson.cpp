@@ -21,21 +21,11 @@
 #include "fft_poisson.hpp"
 #include "field.hpp"
 #include "halo_exchange.hpp"
+#include "mpi_test_support.hpp"
 
 using namespace efsi;
 
 namespace {
-
-std::vector<Int3> all_decompositions(int p, const Int3& g) {
-  std::vector<Int3> out;
-  for (int px = 1; px <= p; ++px)
-    for (int py = 1; py <= p; ++py)
-      if (p % (px * py) == 0) {
-        const Int3 d{px, py, p / (px * py)};
-        if (g[X] % d[X] == 0 && g[Y] % d[Y] == 0 && g[Z] % d[Z] == 0) out.push_back(d);
-      }
-  return out;
-}
 
 // Smooth modes (periodic in x, z; cosine in y) plus a hash-based non-smooth part.
 double raw_value(const Int3& g, const Int3& gi) {
@@ -135,7 +125,7 @@ void check_grid(const Domain& dom) {
     for (int j = 0; j < dom.cells[Y]; ++j)
       for (int i = 0; i < dom.cells[X]; ++i) ref_max = std::max(ref_max, std::abs(ref.x(i, j, k)));
 
-  const auto decs = all_decompositions(p, dom.cells);
+  const auto decs = efsi::testing::fitting_decompositions(p, dom.cells, 1);
   ASSERT_FALSE(decs.empty());
   for (const Int3& dims : decs) {
     CartDecomposition dec(MPI_COMM_WORLD, dom.cells, 1, dims);

@@ -14,6 +14,7 @@
 #include "decomposition.hpp"
 #include "field.hpp"
 #include "halo_exchange.hpp"
+#include "mpi_test_support.hpp"
 
 using namespace efsi;
 
@@ -21,14 +22,6 @@ namespace {
 
 const Int3 kGlobal{24, 48, 24};  // divisible by 1, 2, 3, 4, 6 and 8 on every axis, >= 3 per rank
 constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
-
-std::vector<Int3> all_decompositions(int p) {
-  std::vector<Int3> out;
-  for (int px = 1; px <= p; ++px)
-    for (int py = 1; py <= p; ++py)
-      if (p % (px * py) == 0) out.push_back({px, py, p / (px * py)});
-  return out;
-}
 
 std::vector<FieldSpec> test_specs() {
   // The eleven FSI fields with their real layout ...
@@ -131,7 +124,7 @@ void check_all_decompositions(Reach reach) {
   int p = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &p);
   const auto specs = test_specs();
-  for (const Int3& dims : all_decompositions(p)) {
+  for (const Int3& dims : efsi::testing::fitting_decompositions(p, kGlobal, 3)) {
     CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
     const std::string where = "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank());
 

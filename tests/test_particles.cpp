@@ -21,10 +21,12 @@
 #include "decomposition.hpp"
 #include "domain.hpp"
 #include "field.hpp"
+#include "mpi_test_support.hpp"
 #include "particles.hpp"
 #include "runtime.hpp"
 
 using namespace efsi;
+using namespace efsi::testing;
 
 namespace {
 
@@ -36,18 +38,6 @@ constexpr double kVolumeTolerance = 1e-3;
 // 30 random places and orientations gave at most 0.067 (rms 0.029; at 64 cells, 0.024).
 constexpr double kCentroidTolerance = 0.1;
 
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-
-int world_size() {
-  int p = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &p);
-  return p;
-}
-
 // The paper's boxes at `per_cell` grid cells per 3.6.
 Domain box(double lx, double ly, double lz, int per_cell) {
   Domain d;
@@ -58,31 +48,9 @@ Domain box(double lx, double ly, double lz, int per_cell) {
 
 // Every PX x PY x PZ of the started ranks that splits the grid into blocks of at least
 // 3 cells (phi's halo width), as a driver might be forced to use.
-std::vector<Int3> decompositions(const Int3& cells) {
-  const int p = world_size();
-  std::vector<Int3> out;
-  for (int px = 1; px <= p; ++px)
-    for (int py = 1; py <= p / px; ++py) {
-      if (p % (px * py)) continue;
-      const Int3 d{px, py, p / (px * py)};
-      bool fits = true;
-      for (int a = 0; a < 3; ++a) fits = fits && cells[a] % d[a] == 0 && cells[a] / d[a] >= 3;
-      if (fits) out.push_back(d);
-    }
-  return out;
-}
+std::vector<Int3> decompositions(const Int3& cells) { return fitting_decompositions(world_size(), cells, 3); }
 
 Field make_phi(const CartDecomposition& dec) { return Field(dec, {"phi", Stagger::cell, 3, WallParity::even}); }
-
-template <class F>
-std::string config_error_of(F&& f) {
-  try {
-    f();
-  } catch (const ConfigError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 std::uint64_t mix64(std::uint64_t z) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
@@ -177,6 +145,18 @@ void expect_same_regions(const std::vector<SolidRegion>& got, const std::vector<
     EXPECT_EQ(got[m].wraps, want[m].wraps) << where << " region " << m;
     EXPECT_NEAR(got[m].volume, want[m].volume, 1e-12 * want[m].volume) << where << " region " << m;
     for (int ax = 0; ax < 3; ++ax) EXPECT_NEAR(got[m].centroid[ax], want[m].centroid[ax], 1e-10) << where;
+  }
+}
+
+// Fills phi on every decomposition of the started ranks and compares its regions with the
+// serial reference.
+void expect_same_regions_on_every_decomposition(const Domain& dom, const std::vector<Particle>& ps,
+                                                const ParticleSpec& spec, const std::vector<SolidRegion>& reference) {
+  for (const Int3& dims : decompositions(dom.cells)) {
+    CartDecomposition dec(MPI_COMM_WORLD, dom.cells, 3, dims);
+    Field phi = make_phi(dec);
+    fill_solid_fraction(phi, dom, ps, spec);
+    expect_same_regions(solid_regions(phi, dom, dec), reference, "decomposition " + to_string(dims));
   }
 }
 
@@ -506,12 +486,7 @@ TEST(Centroids, LatticeCentresOnEveryDecomposition) {
     std::printf("[ particles ] %s cells: worst centroid error %.4f cells, region volume / body volume %.4f .. %.4f\n",
                 to_string(dom.cells).c_str(), worst, vol_lo, vol_hi);
 
-  for (const Int3& dims : decompositions(dom.cells)) {
-    CartDecomposition dec(MPI_COMM_WORLD, dom.cells, 3, dims);
-    Field phi = make_phi(dec);
-    fill_solid_fraction(phi, dom, ps, spec);
-    expect_same_regions(solid_regions(phi, dom, dec), reference, "decomposition " + to_string(dims));
-  }
+  expect_same_regions_on_every_decomposition(dom, ps, spec, reference);
 }
 
 TEST(Centroids, OffGridParticlesAndThePeriodicCorner) {
@@ -537,12 +512,7 @@ TEST(Centroids, OffGridParticlesAndThePeriodicCorner) {
   if (world_rank() == 0)
     std::printf("[ particles ] %s cells, off-grid particles: worst centroid error %.4f cells\n",
                 to_string(dom.cells).c_str(), worst);
-  for (const Int3& dims : decompositions(dom.cells)) {
-    CartDecomposition dec(MPI_COMM_WORLD, dom.cells, 3, dims);
-    Field phi = make_phi(dec);
-    fill_solid_fraction(phi, dom, ps, spec);
-    expect_same_regions(solid_regions(phi, dom, dec), reference, "decomposition " + to_string(dims));
-  }
+  expect_same_regions_on_every_decomposition(dom, ps, spec, reference);
 }
 
 TEST(Centroids, SlabThroughTheChannelJoinsItsOwnImage) {

@@ -27,35 +27,12 @@
 #include "halo_exchange.hpp"
 #include "region_timers.hpp"
 #include "sor_poisson.hpp"
+#include "mpi_test_support.hpp"
 
 using namespace efsi;
+using namespace efsi::testing;
 
 namespace {
-
-int world_size() {
-  int p = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &p);
-  return p;
-}
-int world_rank() {
-  int r = 0;
-  MPI_Comm_rank(MPI_COMM_WORLD, &r);
-  return r;
-}
-
-// Every px x py x pz = p that divides the grid with at least `min_block` cells per rank.
-std::vector<Int3> decompositions(int p, const Int3& g, int min_block) {
-  std::vector<Int3> out;
-  for (int px = 1; px <= p; ++px)
-    for (int py = 1; py <= p; ++py) {
-      if (p % (px * py) != 0) continue;
-      const Int3 d{px, py, p / (px * py)};
-      bool ok = true;
-      for (int a = 0; a < 3; ++a) ok = ok && g[a] % d[a] == 0 && g[a] / d[a] >= min_block;
-      if (ok) out.push_back(d);
-    }
-  return out;
-}
 
 // Deterministic pseudo-random value in [-1, 1) from a global index.
 double noise(std::uint64_t seed, int gi, int gj, int gk) {
@@ -143,7 +120,7 @@ TEST(SorPoisson, SyncAsyncAndEveryDecompositionGiveTheOneRankFieldBitwise) {
     std::vector<double> ref(product(g));
     if (rank == 0) ref = solve(MPI_COMM_SELF, g, {1, 1, 1}, SorComm::sync, kSweeps);
     MPI_Bcast(ref.data(), static_cast<int>(ref.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
-    const auto dims_list = decompositions(p, g, 2);
+    const auto dims_list = fitting_decompositions(p, g, 2);
     if (p > 1) {
       EXPECT_FALSE(dims_list.empty());
     }
@@ -166,7 +143,7 @@ TEST(SorPoisson, SyncAsyncAndEveryDecompositionGiveTheOneRankFieldBitwise) {
 TEST(SorPoisson, ConvergesToTheManufacturedSolution) {
   const int p = world_size();
   const Int3 g{16, 16, 16};
-  const auto dims_list = decompositions(p, g, 2);
+  const auto dims_list = fitting_decompositions(p, g, 2);
   ASSERT_FALSE(dims_list.empty());
   // The first and last decompositions: different splits, same answer expected.
   for (const Int3& dims : {dims_list.front(), dims_list.back()}) {
@@ -247,7 +224,7 @@ TEST(SorPoisson, ConvergesToTheManufacturedSolution) {
 TEST(SorPoisson, ColouringIsBalancedAndSeparatesNeighboursAcrossRanksAndTheWrap) {
   const int p = world_size();
   for (const Int3& g : std::vector<Int3>{{16, 16, 16}, {8, 9, 12}, {2, 8, 2}}) {
-    for (const Int3& dims : decompositions(p, g, 1)) {
+    for (const Int3& dims : fitting_decompositions(p, g, 1)) {
       const std::string where = "grid " + to_string(g) + " decomposition " + to_string(dims);
       CartDecomposition dec(MPI_COMM_WORLD, g, 1, dims);
       Field col(dec, {"colour", Stagger::cell, 1, WallParity::even});
