@@ -33,6 +33,10 @@ class CartDecomposition {
   // Global index of the first owned cell along each axis.
   const Int3& offset() const { return offset_; }
 
+  // Local y index of the wall faces y = 0 and y = Ly (outside [0, ny] on ranks away from them).
+  int wall_row_below() const { return -offset_[Y]; }
+  int wall_row_above() const { return global_[Y] - offset_[Y]; }
+
   bool wall_below() const { return coords_[Y] == 0; }
   bool wall_above() const { return coords_[Y] == dims_[Y] - 1; }
 

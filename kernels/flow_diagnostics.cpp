@@ -15,7 +15,7 @@ FlowDiagnostics flow_diagnostics(const FsiState& s, const Physics& ph) {
   const Domain& dom = s.domain();
   const InverseSpacing inv(dom);
   const Int3 n = dec.local();
-  const int wall_lo = -dec.offset()[Y], wall_hi = dom.cells[Y] - dec.offset()[Y];
+  const int wall_lo = dec.wall_row_below(), wall_hi = dec.wall_row_above();
   const Field &u = s.vel(X), &v = s.vel(Y), &w = s.vel(Z), &phi = s.phi();
   const double two_mu = 2.0 * ph.mu;
 

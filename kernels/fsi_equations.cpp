@@ -102,8 +102,7 @@ void vstar_component(const FsiState& s, const Physics& ph, const std::array<Fiel
   const double inv_rho = 1.0 / ph.rho;
   const double force = C == X ? ph.force * inv_rho : 0.0;
   // Wall faces of v (global j = 0 and j = NY) stay at rest.
-  const int wall_lo = -s.decomp().offset()[Y];
-  const int wall_hi = s.decomp().global()[Y] - s.decomp().offset()[Y];
+  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   auto body = [&](int i, int j, int k) {
     const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
                        advection_term<C, Z>(s, inv, i, j, k);
@@ -157,8 +156,7 @@ void transport_component(const FsiState& s, double dt, Field& out, const Box& ce
   Box box = cells;
   // The top wall face of a field staggered in y is owned (see field.hpp).
   if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
-  const int wall_lo = -s.decomp().offset()[Y];
-  const int wall_hi = s.decomp().global()[Y] - s.decomp().offset()[Y];
+  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   auto body = [&](auto with_y) {
     return [&](int i, int j, int k) {
       double adv = weno_advection<T, X>(s, inv, q, i, j, k) + weno_advection<T, Z>(s, inv, q, i, j, k);

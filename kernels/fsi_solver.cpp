@@ -141,7 +141,7 @@ double FsiSolver::project() {
   const double c = config_.dt / config_.physics.rho;
   const Field& dp = work_.dp;
   Field& p = state_.p();
-  const int wall_lo = -decomp_.offset()[Y];
+  const int wall_lo = decomp_.wall_row_below();
   const double cx = c / d.spacing(X), cy = c / d.spacing(Y), cz = c / d.spacing(Z);
   double umax = 0.0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : umax)
