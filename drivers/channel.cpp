@@ -15,6 +15,7 @@
 #include "driver_support.hpp"
 #include "run_record.hpp"
 #include "runtime.hpp"
+#include "sor_calibration.hpp"
 
 using namespace efsi;
 
@@ -28,6 +29,8 @@ struct Options {
   long steps = 50;
   int every = 10, threads = 0, progress = 0;
   std::string profile, series, centroids, csv;
+  bool calibrate = false;
+  int max_sweeps = 20000;
 };
 
 // Collective. Checks without creating anything: the directory must exist and be
@@ -91,6 +94,44 @@ void write_file(const std::string& path, const std::string& text) {
   if (!f) throw std::runtime_error("cannot write " + path);
 }
 
+std::string format_eps(double eps) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", eps);
+  return b;
+}
+
+// --calibrate: the paper's N_S count on a developed state (sor_calibration.hpp), one rank.
+int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle>& particles) {
+  check_writable(o.series, "--series");
+  CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+  const std::vector<double> eps = o.eps ? std::vector<double>{*o.eps} : std::vector<double>{1e-3, 1e-4};
+  std::printf("calibrate: %s cells, box %.4g x %.4g x %.4g, %zu particles, G=%g, dt=%g, N_C=%d\n"
+              "  state: laminar Poiseuille flow with the particles at rest and unstrained, then %ld steps of the "
+              "FFT reference; rhs = D*/dt of the next step, SOR (omega 1.6) from dp = 0\n",
+              to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
+              particles.size(), c.solver.physics.G, c.solver.dt, c.solver.cn_sweeps, o.steps);
+  const SorCalibration cal = calibrate_sor(c, dec, particles, o.steps, eps, o.max_sweeps);
+  std::printf("  initial RMS residual %.6g; after %zu sweeps %.3g of it, max |dp_sor - dp_fft| = %.3g of max |dp_fft|\n",
+              cal.initial_residual, cal.history.size(), cal.history.empty() ? 1.0 : cal.history.back(),
+              cal.fft_difference);
+  bool reached = true;
+  for (std::size_t e = 0; e < eps.size(); ++e) {
+    if (cal.sweeps[e] < 0) {
+      std::printf("  eps %g: not reached in --max-sweeps %d\n", eps[e], o.max_sweeps);
+      reached = false;
+    } else {
+      std::printf("  eps %g: N_S = %d\n", eps[e], cal.sweeps[e]);
+    }
+  }
+  if (!o.series.empty()) {
+    std::ostringstream t;
+    t << "sweep,relative_residual\n";
+    for (std::size_t m = 0; m < cal.history.size(); ++m) t << m + 1 << ',' << cal.history[m] << '\n';
+    write_file(o.series, t.str());
+  }
+  return reached ? 0 : 4;
+}
+
 int run(const Options& o) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
@@ -108,11 +149,23 @@ int run(const Options& o) {
   if (o.comm == "sync") c.solver.comm = CommMode::sync;
   else if (o.comm == "async") c.solver.comm = CommMode::async;
   else throw ConfigError("unknown --comm '" + o.comm + "': expected sync or async");
-  if (c.method == PressureKind::acm) {
+  if (c.method != PressureKind::sor) {
     if (o.eps) throw ConfigError("--eps applies to --method sor only");
     if (o.ns) throw ConfigError("--ns applies to --method sor only");
-    if (o.nc) throw ConfigError("--nc applies to --method sor only");
+    if (o.calibrate) throw ConfigError("--calibrate applies to --method sor only");
   }
+  if (o.eps && !(*o.eps > 0 && *o.eps < 1))
+    throw ConfigError("--eps " + std::to_string(*o.eps) + " must lie in (0, 1)");
+  if (o.ns && *o.ns < 1) throw ConfigError("--ns " + std::to_string(*o.ns) + " must be at least 1");
+  if (o.nc && *o.nc < 0) throw ConfigError("--nc " + std::to_string(*o.nc) + " must be 0 (explicit stress) or more");
+  if (o.max_sweeps < 1) throw ConfigError("--max-sweeps " + std::to_string(o.max_sweeps) + " must be at least 1");
+  // The paper's SOR path treats the stress by Crank-Nicolson with N_C = 20; ACM and the
+  // FFT reference are explicit unless --nc asks otherwise.
+  c.solver.cn_sweeps = o.nc.value_or(c.method == PressureKind::sor ? 20 : 0);
+  if (c.method == PressureKind::sor && !o.calibrate)
+    c.sor_sweeps = o.ns ? *o.ns : calibrated_sor_sweeps(o.eps.value_or(1e-3));
+  else if (c.method == PressureKind::sor)
+    c.sor_sweeps = 1;  // unused: the calibration counts them
   c.solver.dt = o.dt;
   if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
   if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
@@ -150,6 +203,11 @@ int run(const Options& o) {
   const long measured = total - 1;
 
   const std::vector<Particle> particles = validate_case(c, ranks, double(total) * o.dt);
+  if (o.calibrate) {
+    if (ranks != 1) throw ConfigError("--calibrate runs on one rank (the paper's procedure); started on " +
+                                      std::to_string(ranks));
+    return calibrate(o, c, particles);
+  }
   for (const auto& [path, opt] : {std::pair{o.profile, "--profile"}, {o.series, "--series"},
                                   {o.centroids, "--centroids"}, {o.csv, "--csv"}})
     check_writable(path, opt);
@@ -242,7 +300,7 @@ int run(const Options& o) {
       std::printf("  %-12s %12.5g %12.5g %12.5g\n", std::string(to_string(static_cast<Region>(r))).c_str(), sp.min,
                   sp.mean, sp.max);
     }
-    std::printf("  comm fraction %.4f (mean halo MPI + reductions / slowest elapsed)\n", rep.comm_fraction);
+    std::printf("  comm fraction %.4f (mean halo MPI + reductions + transposes / slowest elapsed)\n", rep.comm_fraction);
     std::printf("validation: div_max*dx/U_max = %.3g (limit 1e-2), energy budget residual %.3g of its largest "
                 "term (limit 0.02): %s\n",
                 last.div_max / div_scale, budget, valid ? "SUCCESSFUL" : "FAILED");
@@ -265,6 +323,11 @@ int run(const Options& o) {
       r.particles = static_cast<long>(particles.size());
       r.steps = measured;
       r.dt = c.solver.dt;
+      if (c.method == PressureKind::sor) {
+        r.ns_per_step = std::to_string(c.sor_sweeps);
+        if (!o.ns || o.eps) r.eps = format_eps(o.eps.value_or(1e-3));
+      }
+      if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
       r.timing = rep;
       r.div_rms = last.div_rms;
       r.valid = valid && !over;
@@ -286,9 +349,16 @@ int main(int argc, char** argv) {
   app.add_option("--length", o.length, "L or LX,LY,LZ box lengths (default: 3.6/64 per cell)");
   app.add_option("--method", o.method, "pressure method: acm | sor | fft")->capture_default_str();
   app.add_option("--comm", o.comm, "halo mode: sync | async")->capture_default_str();
-  app.add_option("--eps", o.eps, "SOR calibration tolerance (sor only)");
-  app.add_option("--ns", o.ns, "SOR sweeps per step (sor only)");
-  app.add_option("--nc", o.nc, "Crank-Nicolson sweeps per step (sor only)");
+  app.add_option("--eps", o.eps,
+                 "SOR residual ratio: picks the calibrated N_S (1e-3 or 1e-4; default 1e-3), or the target of "
+                 "--calibrate (sor only)");
+  app.add_option("--ns", o.ns, "SOR sweeps per step N_S (sor only; overrides --eps)");
+  app.add_option("--nc", o.nc, "Crank-Nicolson stress sweeps per step N_C (0: explicit Euler; default 20 for sor, 0 "
+                 "otherwise)");
+  app.add_flag("--calibrate", o.calibrate,
+               "sor, one rank: count the sweeps to reach --eps (default: 1e-3 and 1e-4) on a developed state "
+               "(--steps FFT steps from laminar flow) and exit; --series writes the residual history");
+  app.add_option("--max-sweeps", o.max_sweeps, "--calibrate gives up after this many sweeps")->capture_default_str();
   app.add_option("--dt", o.dt, "time step")->capture_default_str();
   auto* steps = app.add_option("--steps", o.steps, "measured steps")->capture_default_str();
   app.add_option("--t-end", o.t_end, "run to this time instead of --steps")->excludes(steps);

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "acm.hpp"
+#include "smac_pressure.hpp"
 #include "config_error.hpp"
 #include "time_step_limits.hpp"
 
@@ -11,8 +12,8 @@ namespace efsi {
 
 PressureKind parse_method(const std::string& name) {
   if (name == "acm") return PressureKind::acm;
-  if (name == "sor" || name == "fft")
-    throw ConfigError("method '" + name + "' is not available yet (the SMAC methods are being built); use acm");
+  if (name == "sor") return PressureKind::sor;
+  if (name == "fft") return PressureKind::fft;
   throw ConfigError("unknown method '" + name + "': expected acm, sor or fft");
 }
 
@@ -37,6 +38,16 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
     if (!(d.length[a] > 0))
       throw ConfigError("box length " + std::to_string(d.length[a]) + " must be positive");
   choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
+  if (c.method == PressureKind::sor) {
+    if (c.sor_sweeps < 1)
+      throw ConfigError("SOR sweeps per step N_S=" + std::to_string(c.sor_sweeps) + " must be at least 1");
+    if (d.cells[X] % 2 != 0 || d.cells[Z] % 2 != 0)
+      throw ConfigError("method sor needs even cell counts in x and z (four-colour ordering across the periodic "
+                        "wrap); cells are " + to_string(d.cells));
+  }
+  if (c.solver.cn_sweeps < 0)
+    throw ConfigError("Crank-Nicolson sweeps per step N_C=" + std::to_string(c.solver.cn_sweeps) +
+                      " must be 0 (explicit stress) or more");
   if (!(c.solver.dt > 0)) throw ConfigError("dt=" + std::to_string(c.solver.dt) + " must be positive");
   const Physics& ph = c.solver.physics;
   check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, std::fabs(ph.force)));
@@ -63,7 +74,11 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
   std::unique_ptr<PressureMethod> pressure;
   switch (c.method) {
     case PressureKind::acm: pressure = std::make_unique<AcmPressure>(); break;
-    default: throw ConfigError(std::string("method ") + to_string(c.method) + " is not available yet");
+    case PressureKind::sor:
+      pressure = std::make_unique<SmacSorPressure>(c.solver.comm == CommMode::sync ? SorComm::sync : SorComm::async,
+                                                   c.sor_sweeps);
+      break;
+    case PressureKind::fft: pressure = std::make_unique<SmacFftPressure>(); break;
   }
   auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
   Field& phi = solver->state().phi();

@@ -18,6 +18,7 @@ struct ChannelCase {
   Domain domain;
   SolverConfig solver;
   PressureKind method = PressureKind::acm;
+  int sor_sweeps = 0;   // N_S per step for method sor (>= 1 there)
   int particles = 0;    // the first K lattice sites; 0: none
   double slab = 0.0;    // > 0: the layered case, solid for slab < y < Ly - slab
   ParticleSpec particle;

@@ -25,6 +25,7 @@
 #include "decomposition.hpp"
 #include "domain.hpp"
 #include "field.hpp"
+#include "region_timers.hpp"
 
 namespace efsi {
 
@@ -36,15 +37,19 @@ class FftPoisson {
 
   // Collective over decomp.comm().  domain.cells must equal decomp.global().
   // FFTW runs with omp_get_max_threads() threads.
-  FftPoisson(const CartDecomposition& decomp, const Domain& domain, Planning planning = Planning::measure);
+  // timers (optional): the solve's MPI_Alltoallv time goes to Region::transpose_mpi, the
+  // rest of it to Region::fft_solve.
+  FftPoisson(const CartDecomposition& decomp, const Domain& domain, Planning planning = Planning::measure,
+             RegionTimers* timers = nullptr);
   ~FftPoisson();
   FftPoisson(const FftPoisson&) = delete;
   FftPoisson& operator=(const FftPoisson&) = delete;
 
   // Reads rhs on the owned cells, writes x on the owned cells (ghosts untouched).
   // rhs and x: cell-centred fields of the constructor's decomposition.  Collective.
-  // Solves Lap x = rhs - <rhs> with <x> = 0.
-  void solve(const Field& rhs, Field& x);
+  // Solves Lap x = factor (rhs - <rhs>) with <x> = 0 (the factor costs nothing: it is
+  // folded into the spectral division).
+  void solve(const Field& rhs, Field& x, double factor = 1.0);
 
   // Doubles this rank sends through MPI_Alltoallv in one solve (all six transposes).
   std::int64_t doubles_sent() const;
@@ -56,6 +61,7 @@ class FftPoisson {
     std::vector<std::int64_t> send_idx, recv_idx;  // element positions in src / dst buffers
     std::vector<int> send_counts, send_displs, recv_counts, recv_displs;  // in doubles
     std::vector<double> send_buf, recv_buf;
+    double mpi_seconds = 0.0;  // MPI_Alltoallv time of the current solve
     void forward(const double* src, double* dst);   // src layout -> dst layout
     void backward(const double* dst, double* src);  // dst layout -> src layout
   };
@@ -66,6 +72,7 @@ class FftPoisson {
   };
   using Buf = std::unique_ptr<double[], FftwBuf>;
 
+  RegionTimers* timers_ = nullptr;
   Int3 n_global_{}, n_local_{};
   double inv_h2_[3]{};
   int mx_ = 0;                 // Nx/2 + 1

@@ -59,4 +59,16 @@ void Field::fill(double value) {
     for (std::ptrdiff_t m = 0; m < sz_; ++m) d[k * sz_ + m] = value;
 }
 
+void Field::copy_from(const Field& other) {
+  if (other.size_ != size_ || other.sz_ != sz_ || other.sy_ != sy_ || other.n_ != n_ ||
+      other.spec_.stagger != spec_.stagger || other.spec_.halo != spec_.halo)
+    throw ConfigError("Field::copy_from: '" + other.name() + "' and '" + name() + "' have different layouts");
+  double* d = data_.get();
+  const double* o = other.data_.get();
+  const std::ptrdiff_t planes = n_[Z] + 2 * spec_.halo;
+#pragma omp parallel for schedule(static)
+  for (std::ptrdiff_t k = 0; k < planes; ++k)
+    for (std::ptrdiff_t m = 0; m < sz_; ++m) d[k * sz_ + m] = o[k * sz_ + m];
+}
+
 }  // namespace efsi

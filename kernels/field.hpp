@@ -80,6 +80,8 @@ class Field {
 
   // Sets every point, ghosts included.
   void fill(double value);
+  // Every point, ghosts included, from a field of the same layout (throws otherwise).
+  void copy_from(const Field& other);
 
  private:
   struct Free {

@@ -122,6 +122,13 @@ void vstar_component(const FsiState& s, const Physics& ph, const std::array<Fiel
   }
 }
 
+// Box of cells extended to the owned top wall face for components staggered in y.
+inline Box owned_extent(const Field& q, const Box& cells) {
+  Box box = cells;
+  if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
+  return box;
+}
+
 // v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
 template <Stagger T, int M>
 inline double weno_advection(const FsiState& s, const Inv& inv, const Field& q, int i, int j, int k) {
@@ -153,9 +160,8 @@ void transport_component(const FsiState& s, double dt, Field& out, const Box& ce
   const Inv inv(s.domain());
   constexpr Stagger T = tensor_location(A, B);
   const Field& q = s.B(A, B);
-  Box box = cells;
   // The top wall face of a field staggered in y is owned (see field.hpp).
-  if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
+  const Box box = owned_extent(q, cells);
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   auto body = [&](auto with_y) {
     return [&](int i, int j, int k) {
@@ -177,6 +183,40 @@ void transport_component(const FsiState& s, double dt, Field& out, const Box& ce
   }
 }
 
+
+template <int A, int B>
+void stretching_component(const FsiState& s, double dt, const Field& base, Field& out, const Box& cells) {
+  const Inv inv(s.domain());
+  for_box(owned_extent(out, cells), [&](int i, int j, int k) {
+    const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) + upper_convected_term<A, B, Y>(s, inv, i, j, k) +
+                      upper_convected_term<A, B, Z>(s, inv, i, j, k);
+    out(i, j, k) = base(i, j, k) + dt * uc;
+  });
+}
+
+template <int C>
+void stress_difference_component(const std::array<Field, 6>& tau_a, const std::array<Field, 6>& tau_b,
+                                 const FsiState& s, double c, const Field& base, Field& out, const Box& box) {
+  const Inv inv(s.domain());
+  auto body = [&](int i, int j, int k) {
+    const double da = stress_divergence_term<C, X>(tau_a, inv, i, j, k) +
+                      stress_divergence_term<C, Y>(tau_a, inv, i, j, k) +
+                      stress_divergence_term<C, Z>(tau_a, inv, i, j, k);
+    const double db = stress_divergence_term<C, X>(tau_b, inv, i, j, k) +
+                      stress_divergence_term<C, Y>(tau_b, inv, i, j, k) +
+                      stress_divergence_term<C, Z>(tau_b, inv, i, j, k);
+    out(i, j, k) = base(i, j, k) + c * (da - db);
+  };
+  if constexpr (C == Y) {
+    const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
+      if (wall) for_box(b, [&](int i, int j, int k) { out(i, j, k) = 0.0; });
+      else for_box(b, body);
+    });
+  } else {
+    for_box(box, body);
+  }
+}
 }  // namespace
 
 FsiWork::FsiWork(const CartDecomposition& decomp)
@@ -236,6 +276,38 @@ void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<
   transport_component<0, 1>(s, dt, B_new[3], cells);
   transport_component<0, 2>(s, dt, B_new[4], cells);
   transport_component<1, 2>(s, dt, B_new[5], cells);
+}
+
+}  // namespace efsi
+
+namespace efsi {
+
+void compute_stress_owned(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau) {
+  const Box owned{{0, 0, 0}, s.decomp().local()};
+  stress_component<0, 0>(s, ph, tau[0], owned);
+  stress_component<1, 1>(s, ph, tau[1], owned);
+  stress_component<2, 2>(s, ph, tau[2], owned);
+  stress_component<0, 1>(s, ph, tau[3], owned_extent(tau[3], owned));
+  stress_component<0, 2>(s, ph, tau[4], owned_extent(tau[4], owned));
+  stress_component<1, 2>(s, ph, tau[5], owned_extent(tau[5], owned));
+}
+
+void add_stretching(const FsiState& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
+                    const Box& cells) {
+  stretching_component<0, 0>(s, dt, base[0], out[0], cells);
+  stretching_component<1, 1>(s, dt, base[1], out[1], cells);
+  stretching_component<2, 2>(s, dt, base[2], out[2], cells);
+  stretching_component<0, 1>(s, dt, base[3], out[3], cells);
+  stretching_component<0, 2>(s, dt, base[4], out[4], cells);
+  stretching_component<1, 2>(s, dt, base[5], out[5], cells);
+}
+
+void add_stress_divergence_difference(const FsiState& s, const std::array<Field, 6>& tau_a,
+                                      const std::array<Field, 6>& tau_b, double c, const std::array<Field, 3>& base,
+                                      std::array<Field, 3>& out, const Box& faces) {
+  stress_difference_component<X>(tau_a, tau_b, s, c, base[0], out[0], faces);
+  stress_difference_component<Y>(tau_a, tau_b, s, c, base[1], out[1], faces);
+  stress_difference_component<Z>(tau_a, tau_b, s, c, base[2], out[2], faces);
 }
 
 }  // namespace efsi

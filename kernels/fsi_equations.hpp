@@ -44,4 +44,17 @@ void compute_vstar(const FsiState& s, const Physics& ph, const std::array<Field,
 // components staggered in y).
 void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<Field, 6>& B_new, const Box& cells);
 
+// The pieces of the Crank-Nicolson stress iteration (DESIGN.md 3.2), same stencils as above.
+// compute_stress on the owned points of every component (top wall faces included): the
+// iteration exchanges tau instead of computing it on ghosts.
+void compute_stress_owned(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau);
+// out = base + dt (L.Bt + Bt.L^T), L from s's velocity and Bt from s, on `cells` (extended
+// to the owned top wall face like compute_transport).
+void add_stretching(const FsiState& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
+                    const Box& cells);
+// out = base + c (div tau_a - div tau_b) on the faces of `faces` (wall faces of v set to zero).
+void add_stress_divergence_difference(const FsiState& s, const std::array<Field, 6>& tau_a,
+                                      const std::array<Field, 6>& tau_b, double c, const std::array<Field, 3>& base,
+                                      std::array<Field, 3>& out, const Box& faces);
+
 }  // namespace efsi

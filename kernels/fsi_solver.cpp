@@ -18,6 +18,8 @@ FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, cons
   vstar_halo_ = std::make_unique<HaloExchange>(
       decomp, std::vector<Field*>{&work_.vstar[0], &work_.vstar[1], &work_.vstar[2]}, Reach::faces, &timers_);
   div_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work_.div}, Reach::faces, &timers_);
+  if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_);
+  pressure_->attach(decomp, domain, work_, timers_);
 }
 
 void FsiSolver::start_from_rest() {
@@ -26,6 +28,21 @@ void FsiSolver::start_from_rest() {
   state_halo_->exchange();
   steps_ = 0;
   time_ = 0.0;
+}
+
+void FsiSolver::impose_laminar_flow() {
+  complete_exchange();
+  Field& u = state_.vel(X);
+  const Domain& d = state_.domain();
+  const double dy = d.spacing(Y), ly = d.length[Y], c = config_.physics.force / (2.0 * config_.physics.mu);
+  const Int3 n = u.n();
+  for (int j = 0; j < n[Y]; ++j) {
+    const double y = u.coord(Y, j) * dy;
+    const double value = c * y * (ly - y);
+    for (int k = 0; k < n[Z]; ++k)
+      for (int i = 0; i < n[X]; ++i) u(i, j, k) = value;
+  }
+  state_halo_->exchange();
 }
 
 void FsiSolver::complete_exchange() {
@@ -87,6 +104,8 @@ void FsiSolver::step() {
     }
     if (config_.comm == CommMode::sync) vstar_halo_->exchange();
   }
+  // Its sweeps exchange v* in all 26 directions, the last one included.
+  if (cn_) cn_->iterate(state_, work_, ph, dt);
 
   const double divmax = compute_divergence();
   div_halo_->exchange();

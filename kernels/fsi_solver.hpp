@@ -4,6 +4,7 @@
 // differs between ACM and the SMAC variants.
 #include <memory>
 
+#include "crank_nicolson.hpp"
 #include "fsi_equations.hpp"
 #include "halo_exchange.hpp"
 #include "pressure_method.hpp"
@@ -24,6 +25,9 @@ struct SolverConfig {
   double velocity_limit = 1e3;
   double divergence_limit = 0.0;
   int check_every = 1;  // steps between blow-up checks (one MPI_Allreduce each)
+  // 0: explicit Euler for the deviatoric stress (the paper's ACM and FFT reference);
+  // N_C > 0: Crank-Nicolson by N_C fixed-point sweeps per step (the paper's SOR path).
+  int cn_sweeps = 0;
 };
 
 class FsiSolver final : public Stepper {
@@ -34,6 +38,10 @@ class FsiSolver final : public Stepper {
   // Set phi on the owned cells first; this puts the rest of the state at rest and
   // unstrained (Bt = sqrt(phi) I) and fills every ghost.
   void start_from_rest();
+  // The steady laminar Poiseuille profile u = f y (Ly - y) / (2 mu) on top of the current
+  // solid and stress (the particle-free steady state; a developed flow for the particles
+  // to start in). Fills every ghost.
+  void impose_laminar_flow();
 
   void step() override;
   FlowDiagnostics diagnostics() override;
@@ -47,6 +55,7 @@ class FsiSolver final : public Stepper {
   const SolverConfig& config() const { return config_; }
   const PressureMethod& pressure() const { return *pressure_; }
   const FsiWork& work() const { return work_; }  // D* and dp of the last step, for checks
+  const CrankNicolsonStress* crank_nicolson() const { return cn_.get(); }  // null: explicit stress
   // Completes an async exchange in flight so that every ghost is current.
   void complete_exchange();
 
@@ -62,6 +71,7 @@ class FsiSolver final : public Stepper {
   std::unique_ptr<PressureMethod> pressure_;
   RegionTimers timers_;
   std::unique_ptr<HaloExchange> state_halo_, vstar_halo_, div_halo_;
+  std::unique_ptr<CrankNicolsonStress> cn_;
   bool pending_ = false;
   long steps_ = 0;
   double time_ = 0.0;

@@ -18,6 +18,10 @@ struct PressureInputs {
 class PressureMethod {
  public:
   virtual ~PressureMethod() = default;
+  // Called once by the solver that owns `work`, before the first increment: a method
+  // that keeps plans or exchanges bound to the work arrays builds them here. Collective.
+  virtual void attach(const CartDecomposition& /*decomp*/, const Domain& /*domain*/, FsiWork& /*work*/,
+                      RegionTimers& /*timers*/) {}
   // Fills work.dp on the owned cells and their face ghosts, shifted so that the new
   // pressure p^N + dp keeps whatever mean the method fixes. Collective.
   virtual void increment(PressureInputs& in) = 0;

@@ -10,6 +10,8 @@ std::string_view to_string(Region r) {
     case Region::halo_mpi: return "halo_mpi";
     case Region::reduce: return "reduce";
     case Region::sor_sweeps: return "sor_sweeps";
+    case Region::fft_solve: return "fft_solve";
+    case Region::transpose_mpi: return "transpose_mpi";
     case Region::count: break;
   }
   return "?";
@@ -21,7 +23,7 @@ TimerReport summarize(const RegionTimers& timers, double elapsed, MPI_Comm comm)
   std::array<double, n> local{};
   for (int r = 0; r < kRegionCount; ++r) local[r] = timers.get(static_cast<Region>(r));
   local[kRegionCount] = elapsed;
-  local[kRegionCount + 1] = timers.get(Region::halo_mpi) + timers.get(Region::reduce);
+  local[kRegionCount + 1] = timers.get(Region::halo_mpi) + timers.get(Region::reduce) + timers.get(Region::transpose_mpi);
 
   std::array<double, n> lo{}, sum{}, hi{};
   MPI_Allreduce(local.data(), lo.data(), n, MPI_DOUBLE, MPI_MIN, comm);

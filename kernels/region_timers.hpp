@@ -8,7 +8,19 @@
 
 namespace efsi {
 
-enum class Region : int { compute, halo_pack, halo_unpack, halo_mpi, reduce, sor_sweeps, count };
+// Exclusive regions: a second of wall time lands in one at most.  Communication (the
+// comm figure) is halo_mpi + reduce + transpose_mpi.
+enum class Region : int {
+  compute,
+  halo_pack,
+  halo_unpack,
+  halo_mpi,
+  reduce,
+  sor_sweeps,     // SOR colour updates
+  fft_solve,      // the FFT Poisson solve less its transposes: FFTs, Thomas, reordering
+  transpose_mpi,  // the FFT solve's MPI_Alltoallv
+  count
+};
 inline constexpr int kRegionCount = static_cast<int>(Region::count);
 
 std::string_view to_string(Region r);
@@ -46,7 +58,7 @@ struct Spread {
 struct TimerReport {
   std::array<Spread, kRegionCount> region{};
   Spread elapsed;           // per-rank elapsed time of the measured section
-  Spread comm;              // halo MPI + reductions, per rank
+  Spread comm;              // halo MPI + reductions + transposes, per rank
   double comm_fraction = 0; // mean comm time / slowest rank's elapsed time
   const Spread& operator[](Region r) const { return region[static_cast<int>(r)]; }
 };

@@ -60,7 +60,7 @@ SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Fi
   if (inner_.empty()) inner_ = Box{};  // for_each_shell_box: everything is boundary
 }
 
-void SorPoisson::update(const Field& rhs, int colour, const Box& b) {
+void SorPoisson::update(const Field& rhs, double factor, int colour, const Box& b) {
   if (b.empty()) return;
   const int px = colour & 1, pyz = colour >> 1;
   const Int3& off = x_.offset();
@@ -82,13 +82,13 @@ void SorPoisson::update(const Field& rhs, int colour, const Box& b) {
 #pragma omp simd
         for (int i = i0; i < b.hi[X]; i += 2) {
           const double s = ax * (r[i - 1] + r[i + 1]) + (wlo * r[i - sy] + whi * r[i + sy]) +
-                           az * (r[i - sz] + r[i + sz]) - f[i];
+                           az * (r[i - sz] + r[i + sz]) - factor * f[i];
           r[i] = keep * r[i] + wd * s;
         }
       } else {
         for (int i = i0; i < b.hi[X]; i += 2) {
           const double s = ax * (r[i - 1] + r[i + 1]) + (wlo * r[i - sy] + whi * r[i + sy]) +
-                           az * (r[i - sz] + r[i + sz]) - rhs(i, j, k);
+                           az * (r[i - sz] + r[i + sz]) - factor * rhs(i, j, k);
           r[i] = keep * r[i] + wd * s;
         }
       }
@@ -96,17 +96,17 @@ void SorPoisson::update(const Field& rhs, int colour, const Box& b) {
   }
 }
 
-void SorPoisson::update_interior(const Field& rhs, int colour) {
+void SorPoisson::update_interior(const Field& rhs, double factor, int colour) {
   RegionTimers::Scope t(timers_, Region::sor_sweeps);
-  update(rhs, colour, inner_);
+  update(rhs, factor, colour, inner_);
 }
 
-void SorPoisson::update_boundary(const Field& rhs, int colour) {
+void SorPoisson::update_boundary(const Field& rhs, double factor, int colour) {
   RegionTimers::Scope t(timers_, Region::sor_sweeps);
-  for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, colour, b); });
+  for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, factor, colour, b); });
 }
 
-void SorPoisson::sweeps(const Field& rhs, int n) {
+void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
   if (n <= 0) return;
   if (comm_ == SorComm::sync) {
     halo_.exchange();
@@ -114,7 +114,7 @@ void SorPoisson::sweeps(const Field& rhs, int n) {
       for (int c = 0; c < 4; ++c) {
         {
           RegionTimers::Scope t(timers_, Region::sor_sweeps);
-          update(rhs, c, owned_);
+          update(rhs, factor, c, owned_);
         }
         halo_.exchange();
       }
@@ -123,16 +123,16 @@ void SorPoisson::sweeps(const Field& rhs, int n) {
     halo_.begin();
     for (int s = 0; s < n; ++s)
       for (int c = 0; c < 4; ++c) {
-        update_interior(rhs, c);
+        update_interior(rhs, factor, c);
         halo_.finish();
-        update_boundary(rhs, c);
+        update_boundary(rhs, factor, c);
         halo_.begin();
       }
     halo_.finish();
   }
 }
 
-double SorPoisson::residual_rms(const Field& rhs) {
+double SorPoisson::residual_rms(const Field& rhs, double factor) {
   halo_.exchange();
   const Int3& n = x_.n();
   double sum = 0.0;
@@ -140,7 +140,7 @@ double SorPoisson::residual_rms(const Field& rhs) {
   for (int k = 0; k < n[Z]; ++k)
     for (int j = 0; j < n[Y]; ++j)
       for (int i = 0; i < n[X]; ++i) {
-        const double r = rhs(i, j, k) - laplacian(x_, inv_h2_, i, j, k);
+        const double r = factor * rhs(i, j, k) - laplacian(x_, inv_h2_, i, j, k);
         sum += r * r;
       }
   double total = 0.0;

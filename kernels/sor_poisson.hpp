@@ -38,12 +38,13 @@ class SorPoisson {
   SorPoisson(const SorPoisson&) = delete;
   SorPoisson& operator=(const SorPoisson&) = delete;
 
-  // n full sweeps of Lap x = rhs on the owned cells (collective).  x's ghosts are brought
-  // up to date first and are current again on return.  rhs: only owned cells are read.
-  void sweeps(const Field& rhs, int n);
+  // n full sweeps of Lap x = factor rhs on the owned cells (collective).  x's ghosts are
+  // brought up to date first and are current again on return.  rhs: only owned cells are
+  // read.  factor = 1 is exact (the update multiplies by it), so it costs no accuracy.
+  void sweeps(const Field& rhs, int n, double factor = 1.0);
 
-  // Collective: RMS over all owned cells of rhs - Lap x, after a ghost update of x.
-  double residual_rms(const Field& rhs);
+  // Collective: RMS over all owned cells of factor rhs - Lap x, after a ghost update of x.
+  double residual_rms(const Field& rhs, double factor = 1.0);
 
   static int colour(int gi, int gj, int gk) { return (gi & 1) + 2 * ((gj + gk) & 1); }
 
@@ -52,9 +53,9 @@ class SorPoisson {
   const HaloExchange& halo() const { return halo_; }
 
  private:
-  void update(const Field& rhs, int colour, const Box& box);
-  void update_interior(const Field& rhs, int colour);
-  void update_boundary(const Field& rhs, int colour);
+  void update(const Field& rhs, double factor, int colour, const Box& box);
+  void update_interior(const Field& rhs, double factor, int colour);
+  void update_boundary(const Field& rhs, double factor, int colour);
 
   const CartDecomposition& decomp_;
   Field& x_;

@@ -220,7 +220,7 @@ class ChannelTestCase(unittest.TestCase):
         self.assertEqual(header[-1], "oversubscribed")
 
     def check_row(self, header, row, ranks, threads, cells, steps, particles, comm, dims=None,
-                  experiment="channel"):
+                  experiment="channel", method="acm", dt=1.25e-5):
         """One CSV row against the launch that wrote it; returns it as a dict of values."""
         self.assertEqual(len(row), len(header), "row %s does not match the header %s" % (row, header))
         r = dict(zip(header, row))
@@ -245,7 +245,7 @@ class ChannelTestCase(unittest.TestCase):
         for c in TEXT_COLUMNS:
             self.assertTrue(r[c].strip(), "column %s is empty" % c)
         self.assertEqual(r["experiment"], experiment)
-        self.assertEqual(r["method"], "acm")
+        self.assertEqual(r["method"], method)
         self.assertEqual(r["comm"], comm)
         self.assertEqual(r["host"], socket.gethostname())
         self.assertIn("MPI", r["mpi"])
@@ -262,7 +262,7 @@ class ChannelTestCase(unittest.TestCase):
             self.assertEqual(v[c] % v[p], 0, "%s=%d is not a multiple of %s=%d" % (c, v[c], p, v[p]))
         self.assertEqual(v["particles"], particles)
         self.assertEqual(v["steps"], steps)
-        self.assertAlmostEqual(v["dt"], 1.25e-5, delta=1e-15)
+        self.assertAlmostEqual(v["dt"], dt, delta=1e-15)
 
         # The numbers against each other.
         oversubscribed = ranks * threads > cpu_count()
@@ -313,8 +313,14 @@ class BadInput(ChannelTestCase):
     CASES = [
         (SMALL + ["--no-such-option", "7"], [r"--no-such-option"]),
         (SMALL + ["--method", "foo"], [r"\bfoo\b"]),
-        (SMALL + ["--method", "sor"], [r"\bsor\b", r"not available"]),
-        (SMALL + ["--method", "fft"], [r"\bfft\b", r"not available"]),
+        (SMALL + ["--method", "sor", "--eps", "1e-5"], [r"--eps", r"1e-05", r"1e-3", r"1e-4"]),
+        (SMALL + ["--method", "sor", "--ns", "0"], [r"--ns", r"\b0\b", r"at least 1"]),
+        (SMALL + ["--method", "sor", "--nc", "-1"], [r"--nc", r"-1\b"]),
+        (SMALL + ["--method", "sor", "--eps", "2"], [r"--eps", r"\b2\b", r"\(0, 1\)"]),
+        (SMALL + ["--method", "sor", "--calibrate", "--max-sweeps", "0"], [r"--max-sweeps", r"\b0\b"]),
+        (["--cells", "17,16,16", "--particles", "0", "--steps", "3", "--method", "sor"], [r"sor", r"even", r"17"]),
+        (SMALL + ["--method", "fft", "--ns", "5"], [r"--ns\b", r"\bsor\b"]),
+        (SMALL + ["--calibrate"], [r"--calibrate", r"\bsor\b"]),
         (["--cells", "10,10", "--particles", "0", "--steps", "3"], [r"--cells", r"10,10"]),
         (["--cells", "0", "--particles", "0", "--steps", "3"], [r"--cells", r"\b0\b"]),
         (["--cells", "16,abc,16", "--particles", "0", "--steps", "3"], [r"--cells", r"abc"]),
@@ -329,7 +335,6 @@ class BadInput(ChannelTestCase):
         (SMALL + ["--dt", "-1"], [r"\bdt\b"], [-1.0]),
         (SMALL + ["--decomp", "3,1,1"], [r"3x1x1|3,1,1"]),
         (SMALL + ["--ns", "5"], [r"--ns\b", r"\bsor\b"]),
-        (SMALL + ["--nc", "7"], [r"--nc\b", r"\bsor\b"]),
         (SMALL + ["--eps", "1e-3"], [r"--eps\b", r"\bsor\b"]),
         # The default 64^3 box (3.6^3) holds 2 lattice sites.
         (["--particles", "3", "--steps", "3"], [r"\b3\b", r"particle", r"\b2\b"]),
@@ -468,6 +473,56 @@ class CsvRecord(ChannelTestCase):
                 self.check_header(header)
                 self.assertEqual(sum(1 for r in rows if r == header), 1, "the header is written once")
                 self.check_row(header, rows[n], ranks, 1, cells, 3, particles, comm, dims)
+
+    def test_smac_rows_name_their_sweeps(self):
+        # (ranks, method, comm, extra arguments, eps, ns, nc) as the CSV must record them.
+        runs = [
+            (1, "fft", "sync", [], "", "", ""),
+            (2, "fft", "async", ["--nc", "3"], "", "", "3"),
+            (1, "sor", "sync", ["--ns", "40", "--nc", "4"], "", "40", "4"),
+            (2, "sor", "async", ["--ns", "40"], "", "40", "20"),
+            (2, "sor", "sync", ["--eps", "1e-4", "--nc", "2"], "0.0001", None, "2"),
+        ]
+        for n, (ranks, method, comm, extra, eps, ns, nc) in enumerate(runs, start=1):
+            args = WITH_PARTICLES + ["--method", method, "--comm", comm, "--dt", "6.25e-5", "--csv", "smac.csv"]
+            with self.subTest(args=" ".join(args + extra), ranks=ranks):
+                self.run_ok(args + extra, ranks=ranks)
+                _, rows = read_table(self.path("smac.csv"))
+                self.assertEqual(len(rows), n + 1)
+                header = rows[0]
+                self.check_header(header)
+                self.check_row(header, rows[n], ranks, 1, (32, 32, 32), 3, 2, comm, method=method, dt=6.25e-5)
+                r = dict(zip(header, rows[n]))
+                self.assertEqual(r["eps"], eps)
+                if ns is None:  # the calibrated count for eps 1e-4
+                    self.assertGreater(int(r["ns_per_step"]), 40)
+                else:
+                    self.assertEqual(r["ns_per_step"], ns)
+                self.assertEqual(r["nc_per_step"], nc)
+
+    def test_calibrate_prints_the_sweep_counts(self):
+        res = self.run_ok(["--cells", "32", "--length", "3.6", "--steps", "5", "--method", "sor", "--calibrate",
+                           "--dt", "6.25e-5", "--series", "residuals.csv"])
+        counts = dict((float(e), int(n)) for e, n in re.findall(r"eps (\S+): N_S = (\d+)", res.out))
+        self.assertEqual(sorted(counts), [1e-4, 1e-3], res.out)
+        self.assertGreater(counts[1e-3], 10, "SOR needs many sweeps to gain three digits at 32^3")
+        self.assertGreater(counts[1e-4], counts[1e-3])
+        _, rows = read_table(self.path("residuals.csv"))
+        self.assertEqual(rows[0], ["sweep", "relative_residual"])
+        history = [float(r[1]) for r in rows[1:]]
+        self.assertEqual(len(history), counts[1e-4])
+        self.assertLessEqual(history[counts[1e-3] - 1], 1e-3)
+        self.assertGreater(history[counts[1e-3] - 2], 1e-3)
+        self.assertLessEqual(history[-1], 1e-4)
+        self.assertGreater(history[-2], 1e-4)
+        m = re.search(r"max \|dp_sor - dp_fft\| = (\S+) of", res.out)
+        self.assertIsNotNone(m, res.out)
+        self.assertLess(float(m.group(1)), 1e-2, "after eps 1e-4, SOR is close to the exact solve")
+
+    def test_calibrate_refuses_two_ranks(self):
+        res = run(WITH_PARTICLES + ["--method", "sor", "--calibrate"], ranks=2, cwd=self.dir)
+        self.assertEqual(res.rc, 2, str(res))
+        self.assertRegex(res.err, r"--calibrate.*one rank.*\b2\b")
 
     def test_eight_concurrent_runs_append_eight_whole_rows(self):
         t0 = time.monotonic()

@@ -1,0 +1,58 @@
+#include "smac_pressure.hpp"
+
+#include <string>
+
+#include "config_error.hpp"
+
+namespace efsi {
+
+void SmacFftPressure::attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work,
+                             RegionTimers& timers) {
+  fft_ = std::make_unique<FftPoisson>(decomp, domain, planning_, &timers);
+  // grad dp on the owned faces reads the low face ghosts.
+  dp_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work.dp}, Reach::faces, &timers);
+}
+
+void SmacFftPressure::increment(PressureInputs& in) {
+  // D* sums to the net flux through the boundary, zero to round-off; the solve removes
+  // that round-off mean and returns <dp> = 0, so <p> stays where it started.
+  fft_->solve(in.work.div, in.work.dp, 1.0 / in.dt);
+  dp_halo_->exchange();
+}
+
+SmacSorPressure::SmacSorPressure(SorComm comm, int sweeps, double omega)
+    : comm_(comm), sweeps_(sweeps), omega_(omega) {
+  if (sweeps < 1) throw ConfigError("SOR sweeps per step N_S=" + std::to_string(sweeps) + " must be at least 1");
+  report_.sweeps = sweeps;
+}
+
+void SmacSorPressure::attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work,
+                             RegionTimers& timers) {
+  sor_ = std::make_unique<SorPoisson>(decomp, domain, work.dp, comm_, &timers, omega_);
+}
+
+void SmacSorPressure::increment(PressureInputs& in) {
+  {
+    RegionTimers::Scope t(&in.timers, Region::sor_sweeps);
+    in.work.dp.fill(0.0);
+  }
+  // The sweeps leave dp's ghosts current, the low face ghosts included.
+  sor_->sweeps(in.work.div, sweeps_, 1.0 / in.dt);
+}
+
+int count_sor_sweeps(SorPoisson& sor, Field& x, const Field& rhs, double factor, double eps, int max_sweeps,
+                     std::vector<double>* residuals) {
+  x.fill(0.0);
+  const double r0 = sor.residual_rms(rhs, factor);
+  if (residuals) residuals->clear();
+  if (!(r0 > 0.0)) return 0;
+  for (int n = 1; n <= max_sweeps; ++n) {
+    sor.sweeps(rhs, 1, factor);
+    const double r = sor.residual_rms(rhs, factor) / r0;
+    if (residuals) residuals->push_back(r);
+    if (r <= eps) return n;
+  }
+  return -1;
+}
+
+}  // namespace efsi

@@ -1,0 +1,78 @@
+#include "sor_calibration.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "config_error.hpp"
+#include "smac_pressure.hpp"
+
+namespace efsi {
+
+SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& decomp,
+                             const std::vector<Particle>& particles, long warmup, const std::vector<double>& eps,
+                             int max_sweeps) {
+  ChannelCase ref = c;
+  ref.method = PressureKind::fft;
+  auto solver = build_solver(ref, decomp, particles);
+  solver->impose_laminar_flow();
+  for (long s = 0; s <= warmup; ++s) solver->step();
+  solver->complete_exchange();
+
+  // The last step's D* (before its exact correction) and its exact dp.
+  const Field& div = solver->work().div;
+  const Field& dp_fft = solver->work().dp;
+  const double factor = 1.0 / c.solver.dt;
+  Field x(decomp, {"dp_sor", Stagger::cell, 1, WallParity::even});
+  SorPoisson sor(decomp, c.domain, x, SorComm::sync);
+
+  SorCalibration out;
+  x.fill(0.0);
+  out.initial_residual = sor.residual_rms(div, factor);
+  double tightest = 1.0;
+  for (double e : eps) tightest = std::min(tightest, e);
+  // Leaves x after the last sweep counted, for the comparison with the exact solve.
+  count_sor_sweeps(sor, x, div, factor, tightest, max_sweeps, &out.history);
+  for (double e : eps) {
+    int n = -1;
+    for (std::size_t m = 0; m < out.history.size(); ++m)
+      if (out.history[m] <= e) {
+        n = static_cast<int>(m) + 1;
+        break;
+      }
+    out.sweeps.push_back(n);
+  }
+
+  double diff = 0.0, ref_max = 0.0;
+  const Int3 n = x.n();
+  // SOR leaves the mean of dp free; compare after removing it.
+  double sums[2] = {0, 0}, global[2] = {0, 0};
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) sums[0] += x(i, j, k), sums[1] += dp_fft(i, j, k);
+  MPI_Allreduce(sums, global, 2, MPI_DOUBLE, MPI_SUM, decomp.comm());
+  const double cells = double(product(decomp.global()));
+  const double shift = (global[0] - global[1]) / cells;
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) {
+        diff = std::max(diff, std::fabs(x(i, j, k) - shift - dp_fft(i, j, k)));
+        ref_max = std::max(ref_max, std::fabs(dp_fft(i, j, k)));
+      }
+  double local[2] = {diff, ref_max}, maxes[2] = {0, 0};
+  MPI_Allreduce(local, maxes, 2, MPI_DOUBLE, MPI_MAX, decomp.comm());
+  out.fft_difference = maxes[1] > 0 ? maxes[0] / maxes[1] : 0.0;
+  return out;
+}
+
+int calibrated_sor_sweeps(double eps) {
+  if (eps == 1e-3) return 100;
+  if (eps == 1e-4) return 220;
+  char value[32];
+  std::snprintf(value, sizeof value, "%g", eps);
+  throw ConfigError(std::string("no calibrated SOR sweep count for --eps ") + value +
+                    " (calibrated: 1e-3, 1e-4); give --ns, or find one with --calibrate");
+}
+
+}  // namespace efsi
