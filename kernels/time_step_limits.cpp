@@ -91,6 +91,20 @@ void check_time_step(double dt, const Domain& domain, double rho, double mu, dou
                     ", rho=" + g(rho) + ", mu=" + g(mu) + ")");
 }
 
+double crank_nicolson_limit(const Domain& domain, double rho, double mu) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a) sum += 1.0 / (domain.spacing(a) * domain.spacing(a));
+  return rho / (8.0 * mu * sum);
+}
+
+void check_crank_nicolson_step(double dt, const Domain& domain, double rho, double mu) {
+  const double lim = crank_nicolson_limit(domain, rho, mu);
+  if (dt <= lim) return;
+  throw ConfigError("dt=" + g(dt) + " exceeds the Crank-Nicolson fixed-point limit rho/(8 mu (1/dx^2+1/dy^2+1/dz^2)) = " +
+                    e(lim) + " (h=" + g(min_spacing(domain)) + ", rho=" + g(rho) + ", mu=" + g(mu) +
+                    "): each of the N_C sweeps must at least halve the iterate's error; use a smaller --dt or --nc 0");
+}
+
 double laminar_centreline_velocity(const Domain& domain, double mu, double f) {
   const double ly = domain.length[Y];
   return f * ly * ly / (8.0 * mu);

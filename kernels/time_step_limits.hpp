@@ -48,6 +48,14 @@ TimeStepLimits time_step_limits(const Domain& domain, double rho, double mu, dou
 // Also throws for non-physical input (dt, rho, mu not positive; G, u_estimate negative).
 void check_time_step(double dt, const Domain& domain, double rho, double mu, double G, double u_estimate);
 
+// The Crank-Nicolson stress iteration (crank_nicolson.hpp) is a fixed point whose sweep
+// multiplies the error by up to dt mu lambda_max / (2 rho), lambda_max = 8 (1/dx^2 + 1/dy^2
+// + 1/dz^2) (the Laplacian's 4 per axis, doubled by grad div for compressive modes).
+// Throws ConfigError unless a sweep at least halves it: dt <= rho / (8 mu sum 1/h^2),
+// h^2 rho / (24 mu) for cubic cells, a quarter of the explicit viscous limit.
+double crank_nicolson_limit(const Domain& domain, double rho, double mu);
+void check_crank_nicolson_step(double dt, const Domain& domain, double rho, double mu);
+
 // Centreline velocity of laminar Poiseuille flow between the walls y = 0 and y = L_y driven
 // by the body force f: f L_y^2 / (8 mu), the largest velocity the developed channel reaches.
 double laminar_centreline_velocity(const Domain& domain, double mu, double f = 1.0);

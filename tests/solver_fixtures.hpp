@@ -20,12 +20,13 @@ struct Channel {
 };
 
 // `particles` lattice sites of the box (0: none) as the solid, via the kernels' own
-// placement and sampling; the rest of the state at rest.
+// placement and sampling; the rest of the state at rest. `pressure`: ACM when null.
 inline Channel make_channel(MPI_Comm comm, const Domain& dom, const Int3& dims, const SolverConfig& cfg,
-                            int particles = 0) {
+                            int particles = 0, std::unique_ptr<PressureMethod> pressure = nullptr) {
   Channel c;
   c.decomp = std::make_unique<CartDecomposition>(comm, dom.cells, kTransportHalo, dims);
-  c.solver = std::make_unique<FsiSolver>(*c.decomp, dom, cfg, std::make_unique<AcmPressure>());
+  if (!pressure) pressure = std::make_unique<AcmPressure>();
+  c.solver = std::make_unique<FsiSolver>(*c.decomp, dom, cfg, std::move(pressure));
   Field& phi = c.solver->state().phi();
   phi.fill(0.0);
   if (particles != 0) fill_solid_fraction(phi, dom, lattice_particles(dom, particles), ParticleSpec{});

@@ -160,3 +160,19 @@ TEST(TimeStepLimits, NonPhysicalInputIsRefused) {
   const std::string m = message_of(1e-5, kWeak, kRho, 0.0, kG, 1.0);
   EXPECT_NE(m.find("mu=0"), std::string::npos) << m;
 }
+
+// The Crank-Nicolson fixed point: h^2 rho / (24 mu) on cubic cells, named when exceeded.
+TEST(TimeStepLimits, CrankNicolsonFixedPointLimit) {
+  const efsi::Domain d{{32, 32, 32}, {3.6, 3.6, 3.6}};
+  const double h = 3.6 / 32;
+  EXPECT_NEAR(efsi::crank_nicolson_limit(d, 1.0, 1.0), h * h / 24, 1e-15);
+  EXPECT_NEAR(efsi::crank_nicolson_limit(d, 2.0, 0.5), 4 * h * h / 24, 1e-15);
+  EXPECT_NO_THROW(efsi::check_crank_nicolson_step(h * h / 24, d, 1.0, 1.0));
+  try {
+    efsi::check_crank_nicolson_step(1e-3, d, 1.0, 1.0);
+    FAIL() << "dt = 1e-3 is above h^2/24 = 5.27e-4";
+  } catch (const efsi::ConfigError& e) {
+    EXPECT_NE(std::string(e.what()).find("Crank-Nicolson"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("5.273e-04"), std::string::npos) << e.what();
+  }
+}

@@ -321,6 +321,8 @@ class BadInput(ChannelTestCase):
         (["--cells", "17,16,16", "--particles", "0", "--steps", "3", "--method", "sor"], [r"sor", r"even", r"17"]),
         (SMALL + ["--method", "fft", "--ns", "5"], [r"--ns\b", r"\bsor\b"]),
         (SMALL + ["--calibrate"], [r"--calibrate", r"\bsor\b"]),
+        # Under the explicit viscous limit (2.1e-3) but over Crank-Nicolson's fixed point.
+        (WITH_PARTICLES + ["--method", "sor", "--dt", "1e-3"], [r"Crank-Nicolson", r"0\.001\b|1e-03"], [5.273e-4]),
         (["--cells", "10,10", "--particles", "0", "--steps", "3"], [r"--cells", r"10,10"]),
         (["--cells", "0", "--particles", "0", "--steps", "3"], [r"--cells", r"\b0\b"]),
         (["--cells", "16,abc,16", "--particles", "0", "--steps", "3"], [r"--cells", r"abc"]),
