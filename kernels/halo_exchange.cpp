@@ -256,6 +256,13 @@ void HaloExchange::begin() {
   }
 }
 
+void HaloExchange::progress() {
+  if (!in_flight_ || requests_.empty()) return;
+  RegionTimers::Scope t(timers_, Region::halo_mpi);
+  int done = 0;
+  MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+}
+
 void HaloExchange::finish() {
   if (!in_flight_) throw std::logic_error("HaloExchange::finish without begin");
   {

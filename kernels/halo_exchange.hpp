@@ -40,6 +40,9 @@ class HaloExchange {
   // may then compute on anything but the ghosts; finish() waits, unpacks, applies walls.
   // Both forms leave bitwise the same ghosts.
   void begin();
+  // Between begin() and finish(): lets MPI move the messages on (MPI_Testall). Without it a
+  // large message (rendezvous protocol) waits for finish() to start, and nothing overlaps.
+  void progress();
   void finish();
 
   std::size_t bytes_sent_mpi() const { return mpi_doubles_ * sizeof(double); }  // per call, this rank
