@@ -1,0 +1,157 @@
+// One whole solver step of each method on the paper's weak-scaling block: 64^3 cells of
+// 3.6^3 per rank, ranks side by side in x (global cells {64 P, 64, 64}, box {3.6 P, 3.6,
+// 3.6}), the two body-centred lattice particles of each rank's 3.6^3 lattice cell, G = 50.
+// Built the way every driver builds a run: ChannelCase -> validate_case ->
+// CartDecomposition -> build_solver.
+//
+//   BM_Step/acm/{sync,async}             dt 1.25e-5, explicit stress (the paper's ACM)
+//   BM_Step/sor_ns100_nc20/{sync,async}  dt 6.25e-5, N_S = 100 SOR sweeps per step,
+//                                        Crank-Nicolson stress by N_C = 20 sweeps
+//   BM_Step/fft/sync                     dt 6.25e-5, exact FFT pressure, explicit stress
+//
+//   OMP_NUM_THREADS=1 build/bin/bench_step --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
+//   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_step --benchmark_repetitions=5 ...
+//   (one method: --benchmark_filter='BM_Step/acm/')
+//
+// One warm-up step (first touch of the work arrays, FFTW and MPI set-up, async exchange in
+// flight) is taken outside the timing, then the solver's RegionTimers are reset. Each
+// iteration runs a few steps (2 for SOR, about 1 s per step on one core; 5 for the others),
+// timed together on every rank; the manual time is the slowest rank's time divided by the
+// steps, so the reported time is per step. Google Benchmark's --benchmark_min_time counts
+// that per-step time: the wall time of a run is about steps per iteration times longer.
+//
+// Counters (rank 0; per step, ms, from this rank's RegionTimers):
+//   compute_ms       stencil kernels (stress and its Crank-Nicolson sweeps, v*, transport,
+//                    divergence, ACM, projection)
+//   halo_pack_ms, halo_unpack_ms, halo_mpi_ms (posting and waiting), reduce_ms (moments,
+//                    blow-up check), sor_sweeps_ms (SOR colour updates), fft_solve_ms (FFTs,
+//                    Thomas, reordering), transpose_mpi_ms (the FFT solve's MPI_Alltoallv)
+//   other_ms         step time minus all the regions above (untimed code, timer skew, the
+//                    slowest rank's lag over rank 0)
+//   MLUPS            million cell updates per second of the GLOBAL grid, from the manual time
+//   global_cells, particles, ranks, steps_per_iteration, ns, nc: the set-up, for reference
+#include <mpi.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "channel_case.hpp"
+#include "decomposition.hpp"
+#include "fsi_solver.hpp"
+#include "fsi_state.hpp"
+#include "mpi_benchmark.hpp"
+#include "particles.hpp"
+#include "region_timers.hpp"
+
+namespace {
+
+using namespace efsi;
+
+constexpr int kBlock = 64;         // cells per rank per axis
+constexpr double kBlockLen = 3.6;  // length per rank per axis (one lattice cell: 2 particles)
+constexpr double kG = 50.0;
+
+struct StepCase {
+  PressureKind method;
+  CommMode mode;
+  double dt;
+  int ns;               // SOR sweeps per step (method sor)
+  int nc;               // Crank-Nicolson sweeps per step; 0: explicit stress
+  int steps_per_iter;
+};
+
+const std::vector<StepCase>& step_cases() {
+  static const std::vector<StepCase> cases{
+      {PressureKind::acm, CommMode::sync, 1.25e-5, 0, 0, 5},
+      {PressureKind::acm, CommMode::async, 1.25e-5, 0, 0, 5},
+      {PressureKind::sor, CommMode::sync, 6.25e-5, 100, 20, 2},
+      {PressureKind::sor, CommMode::async, 6.25e-5, 100, 20, 2},
+      {PressureKind::fft, CommMode::sync, 6.25e-5, 0, 0, 5},
+  };
+  return cases;
+}
+
+// BM_Step/acm/sync, BM_Step/sor_ns100_nc20/async, BM_Step/fft/sync.
+std::string bench_name(const StepCase& m) {
+  std::string name = std::string("BM_Step/") + to_string(m.method);
+  if (m.method == PressureKind::sor) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
+  else if (m.nc > 0) name += "_nc" + std::to_string(m.nc);
+  return name + "/" + to_string(m.mode);
+}
+
+struct Setup {
+  ChannelCase c;
+  std::vector<Particle> particles;
+  std::unique_ptr<CartDecomposition> dec;
+  std::unique_ptr<FsiSolver> solver;
+
+  explicit Setup(const StepCase& m) {
+    int p = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &p);
+    c.domain.cells = {kBlock * p, kBlock, kBlock};
+    c.domain.length = {kBlockLen * p, kBlockLen, kBlockLen};
+    c.solver.dt = m.dt;
+    c.solver.physics.G = kG;
+    c.solver.comm = m.mode;
+    c.solver.cn_sweeps = m.nc;
+    c.method = m.method;
+    c.sor_sweeps = m.ns;
+    // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
+    c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
+    c.forced_dims = {p, 1, 1};
+    // t_end only bounds the a-priori velocity for the time-step check: a generous run length.
+    particles = validate_case(c, p, 1000 * m.dt);
+    dec = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+    solver = build_solver(c, *dec, particles);
+  }
+};
+
+void BM_Step(benchmark::State& state, const StepCase& m) {
+  Setup s(m);
+  FsiSolver& solver = *s.solver;
+  solver.step();  // warm-up, outside the timers
+  solver.timers().reset();
+
+  double total = 0.0;
+  for (auto _ : state) {
+    const double t = bench::max_over_ranks(MPI_COMM_WORLD, [&] {
+      for (int n = 0; n < m.steps_per_iter; ++n) solver.step();
+    });
+    state.SetIterationTime(t / m.steps_per_iter);
+    total += t;
+  }
+  const RegionTimers timers = solver.timers();  // before the last exchange completes
+  solver.complete_exchange();                   // nothing in flight when the solver goes
+
+  const double steps = static_cast<double>(state.iterations()) * m.steps_per_iter;
+  const double cells = static_cast<double>(product(s.c.domain.cells));
+  const double per_ms = 1e3 / steps;
+  double regions = 0.0;
+  for (int r = 0; r < kRegionCount; ++r) {
+    const Region region = static_cast<Region>(r);
+    regions += timers.get(region);
+    state.counters[std::string(to_string(region)) + "_ms"] = timers.get(region) * per_ms;
+  }
+  state.counters["other_ms"] = (total - regions) * per_ms;
+  state.counters["MLUPS"] = total > 0 ? cells * steps / total / 1e6 : 0.0;
+  state.counters["global_cells"] = cells;
+  state.counters["particles"] = static_cast<double>(s.particles.size());
+  state.counters["ranks"] = static_cast<double>(s.dec->size());
+  state.counters["steps_per_iteration"] = m.steps_per_iter;
+  state.counters["ns"] = m.ns;
+  state.counters["nc"] = m.nc;
+}
+
+// Registered before main() runs, like the BENCHMARK macros, under names built from the cases.
+[[maybe_unused]] const bool kRegistered = [] {
+  for (const StepCase& m : step_cases())
+    benchmark::RegisterBenchmark(bench_name(m).c_str(), BM_Step, m)
+        ->UseManualTime()
+        ->Unit(benchmark::kMillisecond);
+  return true;
+}();
+
+}  // namespace
+
+int main(int argc, char** argv) { return efsi::bench::run_main(argc, argv); }
