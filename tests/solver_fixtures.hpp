@@ -3,6 +3,7 @@
 // solutions, and gathering a distributed field onto one rank for comparisons.
 #include <mpi.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <vector>
@@ -60,6 +61,25 @@ inline std::vector<double> xz_mean_profile(const Field& f, const Domain& dom, MP
   MPI_Allreduce(local.data(), global.data(), dom.cells[Y], MPI_DOUBLE, MPI_SUM, comm);
   for (double& v : global) v /= double(dom.cells[X]) * dom.cells[Z];
   return global;
+}
+
+// Start-up Poiseuille flow between walls at y = 0 and 1 on ny cells (6 x ny x 6, rho = mu =
+// f = 1), dt = 0.1 dy^2 (dt ~ dy^2 keeps the Euler error at second order in dy too), to
+// t = 0.05: the max error of the x-z mean of u against the series solution. `cfg` gives
+// everything but dt; `pressure`: ACM when null.
+inline double startup_poiseuille_error(int ny, SolverConfig cfg, std::unique_ptr<PressureMethod> pressure = nullptr) {
+  const double dy = 1.0 / ny;
+  const Domain dom{{6, ny, 6}, {6 * dy, 1.0, 6 * dy}};
+  cfg.dt = 0.1 * dy * dy;
+  Channel c = make_channel(MPI_COMM_WORLD, dom, {0, 0, 0}, cfg, 0, std::move(pressure));
+  const long steps = std::lround(0.05 / cfg.dt);
+  for (long s = 0; s < steps; ++s) c.solver->step();
+  c.solver->complete_exchange();
+  const auto prof = xz_mean_profile(c.solver->state().vel(X), dom, c.decomp->comm());
+  double err = 0;
+  for (int j = 0; j < ny; ++j)
+    err = std::max(err, std::fabs(prof[j] - poiseuille_startup((j + 0.5) * dy, c.solver->time(), 1.0, 1.0, 1.0, 1.0)));
+  return err;
 }
 
 // The owned points [0, n) of a distributed field, in global x-fastest order, on rank 0.

@@ -15,33 +15,11 @@
 using namespace efsi;
 using namespace efsi::testing;
 
-namespace {
-
-// Max error of the x-z mean of u against the series solution at time t.
-double poiseuille_error(int ny, CommMode mode) {
-  const double dy = 1.0 / ny;
-  const Domain dom{{6, ny, 6}, {6 * dy, 1.0, 6 * dy}};
-  SolverConfig cfg;
-  cfg.dt = 0.1 * dy * dy;  // dt ~ dy^2 keeps the Euler error at second order in dy too
-  cfg.comm = mode;
-  const double t_end = 0.05;
-  Channel c = make_channel(MPI_COMM_WORLD, dom, {0, 0, 0}, cfg);
-  const long steps = std::lround(t_end / cfg.dt);
-  for (long s = 0; s < steps; ++s) c.solver->step();
-  c.solver->complete_exchange();
-  const auto prof = xz_mean_profile(c.solver->state().vel(X), dom, c.decomp->comm());
-  double err = 0;
-  for (int j = 0; j < ny; ++j)
-    err = std::max(err, std::fabs(prof[j] - poiseuille_startup((j + 0.5) * dy, c.solver->time(), 1.0, 1.0, 1.0, 1.0)));
-  return err;
-}
-
-}  // namespace
 
 TEST(AcmSolver, StartupPoiseuilleConvergesAtSecondOrder) {
   double prev = 0;
   for (int ny : {8, 16, 32}) {
-    const double err = poiseuille_error(ny, CommMode::sync);
+    const double err = startup_poiseuille_error(ny, SolverConfig{});
     if (world_rank() == 0) std::printf("  Poiseuille ny=%d  max error %.3e\n", ny, err);
     EXPECT_LT(err, 2e-2 / (ny / 8.0) / (ny / 8.0));
     if (prev > 0) {

@@ -150,27 +150,6 @@ TEST(SmacSolver, CalibrationCountsGrowAndSorReachesTheExactSolve) {
                 cal.sweeps[0], cal.sweeps[1], cal.sweeps[2], cal.sweeps[3], cal.fft_difference);
 }
 
-namespace {
-
-// Max error of the x-z mean of u against the series solution at time t.
-double poiseuille_error(int ny, const Factory& make, int cn_sweeps) {
-  const double dy = 1.0 / ny;
-  const Domain dom{{6, ny, 6}, {6 * dy, 1.0, 6 * dy}};
-  SolverConfig cfg;
-  cfg.dt = 0.1 * dy * dy;
-  cfg.cn_sweeps = cn_sweeps;
-  Channel c = make_channel(MPI_COMM_WORLD, dom, {0, 0, 0}, cfg, 0, make(CommMode::sync));
-  const long steps = std::lround(0.05 / cfg.dt);
-  for (long s = 0; s < steps; ++s) c.solver->step();
-  c.solver->complete_exchange();
-  const auto prof = xz_mean_profile(c.solver->state().vel(X), dom, c.decomp->comm());
-  double err = 0;
-  for (int j = 0; j < ny; ++j)
-    err = std::max(err, std::fabs(prof[j] - poiseuille_startup((j + 0.5) * dy, c.solver->time(), 1.0, 1.0, 1.0, 1.0)));
-  return err;
-}
-
-}  // namespace
 
 TEST(SmacSolver, StartupPoiseuilleConvergesAtSecondOrder) {
   struct Case {
@@ -181,7 +160,9 @@ TEST(SmacSolver, StartupPoiseuilleConvergesAtSecondOrder) {
   for (const Case& m : {Case{"sor, Crank-Nicolson N_C = 20", sor(50), 20}, Case{"fft, explicit", fft(), 0}}) {
     double prev = 0;
     for (int ny : {8, 16, 32}) {
-      const double err = poiseuille_error(ny, m.make, m.cn);
+      SolverConfig cfg;
+      cfg.cn_sweeps = m.cn;
+      const double err = startup_poiseuille_error(ny, cfg, m.make(CommMode::sync));
       if (world_rank() == 0) std::printf("  %s: ny=%d max error %.3e\n", m.name, ny, err);
       EXPECT_LT(err, 2e-2 / (ny / 8.0) / (ny / 8.0)) << m.name;
       if (prev > 0) {
