@@ -1,0 +1,377 @@
+#!/usr/bin/python3
+"""The paper's figures and tables from EFSI-Bench result CSVs, each beside the paper's own.
+
+  /usr/bin/python3 plots/make_plots.py --csv results/.../weak.csv [--csv more.csv ...] \
+      [--accuracy-dir DIR] [--paper results/paper/paper_tables.csv] [--out DIR]
+
+Writes into --out (PNG and PDF for every figure):
+  fig3_weak_efficiency   weak scaling T_1/T_M against ranks      (paper Fig. 3, from Table 2)
+  fig4_comm_fraction     communication time / elapsed, in %     (paper Fig. 4: text bound only)
+  fig5_strong_speedup    strong scaling T_ref/T_M, linear line   (paper Fig. 5, from Table 4)
+  table2_weak.md         T_M and T_1/T_M, ours and the paper's   (paper Table 2)
+  table4_strong.md       T_M and T_ref/T_M, ours and the paper's (paper Table 4)
+and, with --accuracy-dir (the accuracy driver's --out):
+  fig2_energy_budget     -dK/dt, I, -eps_s, -eps_f and their sum, FFT reference and ACM (paper Fig. 2)
+  particle_trajectories  particle centroids, ACM beside the FFT reference
+
+Only rows with valid=1 are used; skipped rows are counted in the log and in the figures.
+Repeated runs of one point give the median.  Needs Debian's matplotlib (/usr/bin/python3).
+A bad option or input gives one line on stderr and exit status 2.
+"""
+
+import argparse
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import results_data as rd  # noqa: E402
+import trajectories as tj  # noqa: E402
+
+DEFAULT_PAPER = os.path.join(os.path.dirname(HERE), "results", "paper", "paper_tables.csv")
+PAPER_MACHINE = "RICC, Xeon 5570, 8 cores/node"
+
+STYLE = {  # (method, eps) -> (colour, marker); sync filled, async open (as in the paper)
+    ("acm", ""): ("tab:red", "o"),
+    ("sor", "1e-3"): ("tab:blue", "^"),
+    ("sor", "1e-4"): ("tab:green", "s"),
+    ("fft", ""): ("tab:purple", "D"),
+}
+LINESTYLES = ("-", "--", ":", "-.")
+
+
+class UsageError(Exception):
+    pass
+
+
+class OneLineParser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def style(config, setup_index=0):
+    colour, marker = STYLE.get((config.method, config.eps), ("tab:gray", "v"))
+    face = colour if config.comm == "sync" else "white"
+    return dict(color=colour, marker=marker, markerfacecolor=face, markeredgecolor=colour,
+                linestyle=LINESTYLES[setup_index % len(LINESTYLES)], markersize=6, linewidth=1.3)
+
+
+def setup_indices(all_series):
+    setups = sorted({s.setup for s in all_series})
+    return {s: i for i, s in enumerate(setups)}
+
+
+def rank_axis(ax, ranks):
+    ax.set_xscale("log", base=2)
+    if ranks:
+        lo, hi = min(ranks), max(ranks)
+        ticks = [2 ** k for k in range(int(math.log2(lo)), int(math.log2(hi)) + 1)]
+        if len(ticks) > 8:
+            ticks = ticks[::2]
+        ax.set_xticks(ticks)
+        ax.set_xticklabels([f"{t:,}" for t in ticks])
+        ax.set_xlim(lo / 1.4, hi * 1.4)
+    ax.grid(True, which="major", alpha=0.3)
+
+
+def no_data(ax, text):
+    ax.text(0.5, 0.5, text, transform=ax.transAxes, ha="center", va="center", fontsize=10, wrap=True)
+
+
+def ours_title(all_series, loaded):
+    hosts = sorted({s.setup.host for s in all_series})
+    title = "This benchmark" + (f" ({', '.join(hosts)})" if hosts else "")
+    if loaded.skipped:
+        title += f"\n[skipped: {loaded.skipped_text()}]"
+    return title
+
+
+def save(fig, out, name, formats, written):
+    for fmt in formats:
+        path = os.path.join(out, f"{name}.{fmt}")
+        fig.savefig(path, dpi=150, bbox_inches="tight")
+        written.append(path)
+
+
+def scaling_figure(plt, paper, ours, loaded, kind):
+    """Two panels: the paper's series on the left, ours on the right."""
+    fig, (axp, axo) = plt.subplots(1, 2, figsize=(12, 4.8), sharey=(kind != "comm"))
+    fields = rd.varying_setup_fields(ours)
+    idx = setup_indices(ours)
+    panels = ((axp, paper, f"Paper ({PAPER_MACHINE})", []), (axo, ours, ours_title(ours, loaded), fields))
+    for ax, group, title, lab_fields in panels:
+        ranks = sorted({p.ranks for s in group for p in s.points})
+        for s in group:
+            x = [p.ranks for p in s.points]
+            if kind == "weak":
+                y = s.ratio()
+            elif kind == "strong":
+                y = s.ratio()
+            else:
+                y = [100 * p.comm_fraction for p in s.points]
+            if kind == "comm" and ax is axp:
+                continue
+            ax.plot(x, y, label=rd.label(s, lab_fields), **style(s.config, idx.get(s.setup, 0)))
+        if kind == "strong":
+            for s in group[:1] if len({(s.points[0].ranks, s.points[-1].ranks) for s in group}) == 1 else group:
+                r0 = s.points[0].ranks
+                xs = [r0, s.points[-1].ranks]
+                ax.plot(xs, [1, xs[1] / r0], color="black", linewidth=1, linestyle="-", marker="",
+                        label="linear" if s is group[0] else None)
+        rank_axis(ax, ranks)
+        ax.set_xlabel("MPI ranks M (cores in the paper)")
+        ax.set_title(title, fontsize=10)
+        if not group and not (kind == "comm" and ax is axp):
+            no_data(ax, f"no valid {'strong' if kind == 'strong' else 'weak'}-scaling rows in the input")
+    if kind == "weak":
+        axp.set_ylabel("weak-scaling efficiency $T_1/T_M$")
+        axp.set_ylim(0, 1.3)
+    elif kind == "strong":
+        axp.set_ylabel("speedup $T_{M_0}/T_M$ (paper: $M_0$ = 1024)")
+        axp.set_yscale("log", base=2)
+    else:
+        axp.set_ylabel("communication time / elapsed  [%]")
+        axo.set_ylabel("communication time / elapsed  [%]")
+        axp.axhline(22, color=STYLE[("acm", "")][0], linestyle="--", linewidth=1.3,
+                    label="ACM: at most 22 % up to 8,192 cores\n(paper's text; Fig. 4 values not tabulated)")
+        axp.text(0.5, 0.35, "The paper gives Figure 4 as a plot only;\nits text bounds ACM at 22 %\n"
+                 "and puts SOR 'much' higher.", transform=axp.transAxes, ha="center", fontsize=9)
+        rank_axis(axp, [1, 8192])
+        axp.set_ylim(0, 100)
+        axo.set_ylim(0, max([100 * p.comm_fraction for s in ours for p in s.points] + [10]) * 1.15)
+    for ax in (axp, axo):
+        if ax.get_legend_handles_labels()[0]:
+            ax.legend(fontsize=8, loc={"weak": "lower left", "strong": "upper left"}.get(kind, "upper left"))
+    fig.tight_layout()
+    return fig
+
+
+# --- Markdown tables -----------------------------------------------------------------------------
+
+def fmt_time(x):
+    return f"{x:.4g}"
+
+
+def markdown_scaling_table(series_list, kind, fields):
+    """Rows: ranks; columns: series; cells: 'T_M (ratio)' plus the runs behind a median."""
+    ranks = sorted({p.ranks for s in series_list for p in s.points})
+    ratio_name = "T_1/T_M" if kind == "weak" else "T_ref/T_M"
+    head = ["ranks"] + [rd.label(s, fields) for s in series_list]
+    lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
+    for r in ranks:
+        cells = [f"{r:,}"]
+        for s in series_list:
+            ratios = dict(zip((p.ranks for p in s.points), s.ratio()))
+            p = next((p for p in s.points if p.ranks == r), None)
+            if p is None:
+                cells.append("")
+            else:
+                runs = f", median of {p.runs}" if p.runs > 1 else ""
+                cells.append(f"{fmt_time(p.elapsed_s)} s ({ratios[r]:.3f}{runs})")
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines, ratio_name
+
+
+def write_table(path, kind, paper, ours, loaded, sources, paper_path):
+    number, what = ("2", "Weak scaling") if kind == "weak" else ("4", "Strong scaling")
+    ref = "T_1/T_M (T_1: the same configuration's time on 1 rank, or its smallest rank count)" \
+        if kind == "weak" else "T_ref/T_M (T_ref: the same configuration's time at its smallest rank count)"
+    out = [f"# Table {number} analogue: {what.lower()}, elapsed time T_M and {ref.split(' ')[0]}", "",
+           f"Cells: `T_M` in seconds (slowest rank, measured steps only) and in brackets {ref}.",
+           "Only rows with valid=1; repeated runs of one point give the median.", ""]
+    out.append(f"## This benchmark ({', '.join(os.path.relpath(s) for s in sources)})")
+    out.append("")
+    if ours:
+        fields = rd.varying_setup_fields(ours)
+        lines, _ = markdown_scaling_table(ours, kind, fields)
+        out += lines
+        out.append("")
+        setups = sorted({s.setup for s in ours})
+        out.append("Set-up: " + "; ".join(s.describe(["block", "steps", "threads", "host"]) for s in setups) + ".")
+    else:
+        out.append(f"No valid {kind}-scaling rows in the input.")
+    if loaded.skipped:
+        out += ["", f"Skipped: {loaded.skipped_text()}."]
+    out += ["", f"## Paper, Table {number} ({PAPER_MACHINE}; {os.path.relpath(paper_path)})", ""]
+    lines, _ = markdown_scaling_table(paper, kind, [])
+    out += lines
+    out.append("")
+    if kind == "weak":
+        out.append("Paper: 64^3 cells per core; ACM 50 steps (dt 1.25e-5), SOR 10 steps (dt 6.25e-5) with "
+                   "1,000 (eps 1e-3) or 2,200 (eps 1e-4) SOR sweeps and 200 Crank-Nicolson sweeps in all.")
+    else:
+        out.append("Paper: 2048 x 1024 x 1024 cells, 16,384 particles; ACM 50 steps, SOR 10 steps with 1,058 "
+                   "(eps 1e-3) or 6,128 (eps 1e-4) SOR sweeps and 70 Crank-Nicolson sweeps in all; "
+                   "T_ref = T_1024.")
+    with open(path, "w") as f:
+        f.write("\n".join(out) + "\n")
+
+
+# --- accuracy run ----------------------------------------------------------------------------------
+
+def budget_terms(cols):
+    """-dK/dt (central differences in time), I, -eps_s, -eps_f and their sum."""
+    t, k = cols["time"], cols["kinetic"]
+    n = len(t)
+    dkdt = []
+    for i in range(n):
+        a, b = max(i - 1, 0), min(i + 1, n - 1)
+        dkdt.append((k[b] - k[a]) / (t[b] - t[a]) if t[b] > t[a] else math.nan)
+    terms = {
+        "$-dK/dt$": [-v for v in dkdt],
+        "$I$ (input)": cols["input"],
+        r"$-\varepsilon_s$ (solid)": [-v for v in cols["eps_solid"]],
+        r"$-\varepsilon_f$ (fluid)": [-v for v in cols["eps_fluid"]],
+    }
+    terms["sum (eq. 14)"] = [sum(v) for v in zip(*terms.values())]
+    return t, terms
+
+
+def energy_figure(plt, acc_dir):
+    fig, axes = plt.subplots(2, 1, figsize=(8, 7.5), sharex=True)
+    ymin, ymax = math.inf, -math.inf
+    for ax, (method, title) in zip(axes, (("fft", "(a) SMAC, exact FFT-tridiagonal pressure (reference)"),
+                                          ("acm", "(b) ACM (this benchmark's explicit method)"))):
+        cols = rd.read_numeric_csv(os.path.join(acc_dir, f"series-{method}.csv"))
+        t, terms = budget_terms(cols)
+        for (name, values), ls in zip(terms.items(), ("-", "-", "--", ":", "-.")):
+            ax.plot(t, values, linestyle=ls, linewidth=1.8 if name.startswith("sum") else 1.3,
+                    color="black" if name.startswith("sum") else None, label=name)
+            finite = [v for v in values if math.isfinite(v)]
+            ymin, ymax = min([ymin] + finite), max([ymax] + finite)
+        ax.set_title(title, fontsize=10)
+        ax.set_ylabel("energy rate")
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, ncol=3, loc="best")
+    for ax in axes:
+        pad = 0.05 * (ymax - ymin or 1)
+        ax.set_ylim(ymin - pad, ymax + pad)
+    axes[-1].set_xlabel("time t")
+    fig.suptitle("Kinetic-energy budget $-dK/dt + I - \\varepsilon_s - \\varepsilon_f = 0$ (paper Fig. 2)", fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def trajectory_figure(plt, acc_dir, box):
+    tracks = {m: tj.track(os.path.join(acc_dir, f"centroids-{m}.csv"), box) for m in ("fft", "acm")}
+    pairs = tj.pair_tracks(tracks["fft"], tracks["acm"], box)
+    fig, (axxy, axyt) = plt.subplots(1, 2, figsize=(12, 4.8))
+    cmap = plt.get_cmap("tab20")
+    for i, (ref, j) in enumerate(zip(tracks["fft"], pairs)):
+        colour = cmap(i % 20)
+        axxy.plot(ref["x"], ref["y"], color=colour, linestyle="--", linewidth=1.2)
+        axyt.plot(ref["time"], ref["y"], color=colour, linestyle="--", linewidth=1.2)
+        axxy.plot(ref["x"][:1], ref["y"][:1], color=colour, marker="o", markersize=3)
+        if j is not None:
+            acm = tracks["acm"][j]
+            axxy.plot(acm["x"], acm["y"], color=colour, linestyle="-", linewidth=1.2)
+            axyt.plot(acm["time"], acm["y"], color=colour, linestyle="-", linewidth=1.2)
+    paired = {j for j in pairs if j is not None}
+    for j, acm in enumerate(tracks["acm"]):
+        if j not in paired:
+            axxy.plot(acm["x"], acm["y"], color="gray", linewidth=1)
+    axxy.plot([], [], color="black", linestyle="-", label=f"ACM ({len(tracks['acm'])} tracks)")
+    axxy.plot([], [], color="black", linestyle="--", label=f"FFT reference ({len(tracks['fft'])} tracks)")
+    axxy.set_xlabel("streamwise x (unwrapped across the periodic side)")
+    axxy.set_ylabel("wall-normal y")
+    axxy.set_ylim(0, box[1])
+    axxy.legend(fontsize=8, loc="best")
+    axxy.set_title("Particle centroids, x-y (circles: start)", fontsize=10)
+    axyt.set_xlabel("time t")
+    axyt.set_ylabel("wall-normal y")
+    axyt.set_ylim(0, box[1])
+    axyt.set_title("Wall-normal position against time (same colours)", fontsize=10)
+    for ax in (axxy, axyt):
+        ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+# --- command line ---------------------------------------------------------------------------------
+
+def parse_box(text):
+    try:
+        v = [float(x) for x in text.split(",")]
+    except ValueError:
+        v = []
+    if len(v) == 1:
+        v *= 3
+    if len(v) != 3 or not all(math.isfinite(x) and x > 0 for x in v):
+        raise argparse.ArgumentTypeError(f"box '{text}' is not L or LX,LY,LZ with positive lengths")
+    return tuple(v)
+
+
+def parse_formats(text):
+    f = [x.strip() for x in text.split(",") if x.strip()]
+    bad = [x for x in f if x not in ("png", "pdf", "svg")]
+    if not f or bad:
+        raise argparse.ArgumentTypeError(f"formats '{text}': choose from png, pdf, svg")
+    return f
+
+
+def main(argv=None):
+    p = OneLineParser(prog="make_plots.py", description=__doc__.split("\n\n")[0])
+    p.add_argument("--csv", action="append", default=[], help="results CSV (repeatable)")
+    p.add_argument("--paper", default=DEFAULT_PAPER, help="the paper's tables (default results/paper/paper_tables.csv)")
+    p.add_argument("--accuracy-dir", help="the accuracy driver's --out directory (series-*.csv, centroids-*.csv)")
+    p.add_argument("--box", type=parse_box,
+                   help="box lengths for unwrapping trajectories (default: from phi-acm.vti, else 7.2)")
+    p.add_argument("--out", default="plots/out", help="output directory (default plots/out)")
+    p.add_argument("--formats", type=parse_formats, default=["png", "pdf"], help="default png,pdf")
+    try:
+        args = p.parse_args(argv)
+        if not args.csv and not args.accuracy_dir:
+            raise UsageError("give at least one --csv or --accuracy-dir")
+        for path in args.csv + [args.paper]:
+            if not os.path.isfile(path):
+                raise UsageError(f"no file {path}")
+        if args.accuracy_dir:
+            for name in ("series-acm.csv", "series-fft.csv", "centroids-acm.csv", "centroids-fft.csv"):
+                if not os.path.isfile(os.path.join(args.accuracy_dir, name)):
+                    raise UsageError(f"no file {os.path.join(args.accuracy_dir, name)}")
+        loaded = rd.read_rows(args.csv)
+        paper_weak, paper_strong = rd.paper_series(args.paper, 2), rd.paper_series(args.paper, 4)
+        box = args.box
+        if args.accuracy_dir and box is None:
+            vti = os.path.join(args.accuracy_dir, "phi-acm.vti")
+            box = tj.box_from_vti(vti) if os.path.isfile(vti) else (7.2, 7.2, 7.2)
+    except (UsageError, rd.DataError, ValueError, OSError) as e:
+        print(f"make_plots.py: error: {e}", file=sys.stderr)
+        return 2
+
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    os.makedirs(args.out, exist_ok=True)
+    written = []
+    if args.csv:
+        weak, strong = rd.series(loaded, "weak"), rd.series(loaded, "strong")
+        print(f"{len(loaded.rows)} valid rows from {len(args.csv)} file(s): {len(weak)} weak and "
+              f"{len(strong)} strong series" + (f"; skipped {loaded.skipped_text()}" if loaded.skipped else ""))
+        for name, kind, paper, ours in (("fig3_weak_efficiency", "weak", paper_weak, weak),
+                                        ("fig4_comm_fraction", "comm", paper_weak, weak),
+                                        ("fig5_strong_speedup", "strong", paper_strong, strong)):
+            fig = scaling_figure(plt, paper, ours, loaded, kind)
+            save(fig, args.out, name, args.formats, written)
+            plt.close(fig)
+        for name, kind, paper, ours in (("table2_weak.md", "weak", paper_weak, weak),
+                                        ("table4_strong.md", "strong", paper_strong, strong)):
+            path = os.path.join(args.out, name)
+            write_table(path, kind, paper, ours, loaded, args.csv, args.paper)
+            written.append(path)
+    if args.accuracy_dir:
+        fig = energy_figure(plt, args.accuracy_dir)
+        save(fig, args.out, "fig2_energy_budget", args.formats, written)
+        plt.close(fig)
+        fig = trajectory_figure(plt, args.accuracy_dir, box)
+        save(fig, args.out, "particle_trajectories", args.formats, written)
+        plt.close(fig)
+    for path in written:
+        print(f"wrote {path}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
