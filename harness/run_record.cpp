@@ -65,7 +65,7 @@ const std::vector<std::string>& csv_columns() {
       "py",         "pz",      "nx",          "ny",          "nz",        "particles", "steps",
       "dt",         "ns_per_step", "nc_per_step", "elapsed_s", "compute_s", "halo_s",  "reduce_s",
       "comm_s",     "comm_s_max", "comm_fraction", "mlups",  "div_rms",   "valid",     "host",
-      "mpi",        "compiler", "git_sha",    "timestamp",   "oversubscribed"};
+      "mpi",        "compiler", "git_sha",    "timestamp",   "oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores"};
   return cols;
 }
 
@@ -80,9 +80,11 @@ std::string csv_row(const RunRecord& r) {
     << r.nz << ',' << r.particles << ',' << r.steps << ',' << num(r.dt) << ',' << clean(r.ns_per_step) << ','
     << clean(r.nc_per_step) << ',' << num(t.elapsed.max) << ',' << num(t[Region::compute].mean) << ','
     << num(halo_mean) << ',' << num(t[Region::reduce].mean) << ',' << num(t.comm.mean) << ',' << num(t.comm.max)
-    << ',' << num(t.comm_fraction) << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid ? 1 : 0) << ','
+    << ',' << num(t.comm_fraction) << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid && !r.layout.oversubscribed ? 1 : 0) << ','
     << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
-    << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.oversubscribed ? 1 : 0) << '\n';
+    << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
+    << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ','
+    << clean(r.layout.omp_proc_bind) << ',' << clean(r.layout.cores) << '\n';
   return o.str();
 }
 
@@ -115,19 +117,6 @@ void append_csv(const std::string& path, const RunRecord& r) {
   }
   ::flock(fd, LOCK_UN);
   ::close(fd);
-}
-
-bool node_oversubscribed(MPI_Comm comm, int threads) {
-  MPI_Comm node;
-  MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
-  int local = 1;
-  MPI_Comm_size(node, &local);
-  MPI_Comm_free(&node);
-  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  const int mine = long(local) * threads > cores ? 1 : 0;
-  int any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
-  return any != 0;
 }
 
 }  // namespace efsi

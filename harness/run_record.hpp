@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "hybrid_layout.hpp"
 #include "region_timers.hpp"
 
 namespace efsi {
@@ -21,10 +22,11 @@ struct RunRecord {
   TimerReport timing;
   double div_rms = 0;
   bool valid = false;
-  bool oversubscribed = false;
+  HybridLayout layout;  // an oversubscribed run is never written as valid
 };
 
-// The section-8 columns in order, then the suite's own: oversubscribed.
+// The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
+// omp_places, omp_proc_bind, cores (hybrid_layout.hpp).
 const std::vector<std::string>& csv_columns();
 
 // Fills host, MPI library, compiler, git revision and UTC timestamp, and formats the row.
@@ -34,8 +36,5 @@ std::string csv_row(const RunRecord& r);
 // to other processes using the same function. Throws std::runtime_error naming the file
 // when it cannot be written.
 void append_csv(const std::string& path, const RunRecord& r);
-
-// True when the ranks on this node times OMP threads exceed its cores. Collective.
-bool node_oversubscribed(MPI_Comm comm, int threads);
 
 }  // namespace efsi

@@ -10,6 +10,12 @@ namespace {
 
 std::ptrdiff_t round_up(std::ptrdiff_t v, std::ptrdiff_t m) { return (v + m - 1) / m * m; }
 
+FieldRecorder* active_recorder = nullptr;
+
+// Leading pad so that i = 0 is aligned; rows a multiple of the alignment.
+std::ptrdiff_t leading_pad(int h) { return round_up(h, Field::kAlignDoubles); }
+std::ptrdiff_t row_stride(const Int3& n, int h) { return round_up(leading_pad(h) + n[X] + h, Field::kAlignDoubles); }
+
 }  // namespace
 
 const char* to_string(Stagger s) {
@@ -37,19 +43,28 @@ Field::Field(const CartDecomposition& decomp, FieldSpec spec)
                         std::to_string(h));
   if (is_staggered(spec_.stagger, Y) && decomp.wall_above()) owned_end_[Y] = n_[Y] + 1;
 
-  // Leading pad so that i = 0 is aligned; rows a multiple of the alignment.
-  const std::ptrdiff_t xpad = round_up(h, kAlignDoubles);
-  sy_ = round_up(xpad + n_[X] + h, kAlignDoubles);
-  const std::ptrdiff_t rows = n_[Y] + 2 * h;
-  sz_ = sy_ * rows;
-  size_ = static_cast<std::size_t>(sz_ * (n_[Z] + 2 * h));
-  origin_ = xpad + sy_ * h + sz_ * h;
+  sy_ = row_stride(n_, h);
+  sz_ = sy_ * (n_[Y] + 2 * h);
+  size_ = allocation_doubles(n_, h);
+  origin_ = leading_pad(h) + sy_ * h + sz_ * h;
+  if (active_recorder) active_recorder->specs_.push_back(spec_);
 
   const std::size_t bytes = static_cast<std::size_t>(round_up(std::ptrdiff_t(size_ * sizeof(double)), 64));
   data_.reset(static_cast<double*>(std::aligned_alloc(64, bytes)));
   if (!data_) throw std::bad_alloc();
   fill(0.0);  // first touch by the threads that will work on the data
 }
+
+std::size_t Field::allocation_doubles(const Int3& local, int halo) {
+  return static_cast<std::size_t>(row_stride(local, halo) * (local[Y] + 2 * halo) * (local[Z] + 2 * halo));
+}
+
+FieldRecorder::FieldRecorder() {
+  if (active_recorder) throw ConfigError("FieldRecorder: another recorder is active");
+  active_recorder = this;
+}
+
+FieldRecorder::~FieldRecorder() { active_recorder = nullptr; }
 
 void Field::fill(double value) {
   double* d = data_.get();

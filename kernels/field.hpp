@@ -12,6 +12,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "decomposition.hpp"
 #include "grid_types.hpp"
@@ -52,6 +53,8 @@ class Field {
   static constexpr int kAlignDoubles = 8;  // 64 bytes
 
   Field(const CartDecomposition& decomp, FieldSpec spec);
+  // Doubles a field with this local block and halo allocates, padding included.
+  static std::size_t allocation_doubles(const Int3& local, int halo);
   Field(Field&&) noexcept = default;
   Field& operator=(Field&&) noexcept = default;
 
@@ -92,6 +95,22 @@ class Field {
   std::ptrdiff_t sy_ = 0, sz_ = 0, origin_ = 0;
   std::size_t size_ = 0;
   std::unique_ptr<double[], Free> data_;
+};
+
+// Records the spec of every Field constructed while it lives, so that a memory estimate
+// can learn which fields a solver makes from a small build instead of a full-size one.
+// One recorder at a time, on the thread that builds.
+class FieldRecorder {
+ public:
+  FieldRecorder();
+  ~FieldRecorder();
+  FieldRecorder(const FieldRecorder&) = delete;
+  FieldRecorder& operator=(const FieldRecorder&) = delete;
+  const std::vector<FieldSpec>& specs() const { return specs_; }
+
+ private:
+  friend class Field;
+  std::vector<FieldSpec> specs_;
 };
 
 }  // namespace efsi

@@ -1,0 +1,243 @@
+#include "case_run.hpp"
+
+#include <mpi.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <optional>
+#include <sstream>
+
+#include "centroids.hpp"
+#include "config_error.hpp"
+#include "driver_support.hpp"
+#include "hybrid_layout.hpp"
+#include "run_record.hpp"
+#include "runtime.hpp"
+#include "timing_report.hpp"
+
+namespace efsi {
+namespace {
+
+std::string series_header() {
+  return "step,time,kinetic,input,eps_solid,eps_fluid,div_rms,div_max,u_max,flow_rate,solid_fraction,beta,gamma,"
+         "mach,mach_bound\n";
+}
+
+std::string series_row(const FlowDiagnostics& d) {
+  char b[512];
+  std::snprintf(b, sizeof b, "%ld,%.9g,%.9g,%.9g,%.9g,%.9g,%.6g,%.6g,%.9g,%.9g,%.12g,%.9g,%.9g,%.6g,%.6g\n", d.step,
+                d.time, d.kinetic, d.input, d.eps_solid, d.eps_fluid, d.div_rms, d.div_max, d.u_max, d.flow_rate,
+                d.solid_fraction, d.beta, d.gamma, d.mach, d.mach_bound);
+  return b;
+}
+
+// x-z means at cell-centre heights; Bt12 (on y faces) averaged to the centres.
+std::string profile_text(const FsiState& s) {
+  const Domain& dom = s.domain();
+  const int ny = dom.cells[Y];
+  std::vector<double> local(4 * ny, 0.0), global(4 * ny, 0.0);
+  const Int3 n = s.phi().n();
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) {
+        const int g = s.phi().offset()[Y] + j;
+        local[4 * g + 0] += s.vel(X)(i, j, k);
+        local[4 * g + 1] += s.phi()(i, j, k);
+        local[4 * g + 2] += s.B(0, 0)(i, j, k);
+        local[4 * g + 3] += 0.5 * (s.B(0, 1)(i, j, k) + s.B(0, 1)(i, j + 1, k));
+      }
+  MPI_Allreduce(local.data(), global.data(), 4 * ny, MPI_DOUBLE, MPI_SUM, s.decomp().comm());
+  const double cnt = double(dom.cells[X]) * dom.cells[Z];
+  std::ostringstream o;
+  o << "y,u,phi,Bt11,Bt12\n";
+  char b[160];
+  for (int j = 0; j < ny; ++j) {
+    std::snprintf(b, sizeof b, "%.9g,%.12g,%.12g,%.12g,%.12g\n", (j + 0.5) * dom.spacing(Y), global[4 * j] / cnt,
+                  global[4 * j + 1] / cnt, global[4 * j + 2] / cnt, global[4 * j + 3] / cnt);
+    o << b;
+  }
+  return o.str();
+}
+
+struct Validation {
+  bool valid = false;
+  double div_ratio = 0, budget = 0;
+};
+
+// Finite fields, divergence small against the velocity gradients, and the energy budget
+// closed over the last three steps (central dK/dt).
+Validation validate(const std::vector<FlowDiagnostics>& tail, const Domain& dom) {
+  Validation v;
+  const FlowDiagnostics& last = tail.back();
+  const bool finite = std::isfinite(last.kinetic) && std::isfinite(last.div_rms) && std::isfinite(last.u_max);
+  const double dx = std::min({dom.spacing(X), dom.spacing(Y), dom.spacing(Z)});
+  v.div_ratio = last.div_max / (std::max(last.u_max, 1e-300) / dx);
+  if (tail.size() >= 3) {
+    const auto& a = tail[tail.size() - 3];
+    const auto& m = tail[tail.size() - 2];
+    const auto& b = tail.back();
+    const double dkdt = (b.kinetic - a.kinetic) / (b.time - a.time);
+    const double largest =
+        std::max({std::fabs(dkdt), std::fabs(m.input), std::fabs(m.eps_solid), std::fabs(m.eps_fluid)});
+    v.budget = largest > 0 ? std::fabs(-dkdt + m.input - m.eps_solid - m.eps_fluid) / largest : 0.0;
+  }
+  v.valid = finite && v.div_ratio < 1e-2 && v.budget < 0.02;
+  return v;
+}
+
+}  // namespace
+
+void check_writable(const std::string& path, const char* option) {
+  if (path.empty()) return;
+  int ok = 1;
+  if (is_root()) {
+    const auto slash = path.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+    ok = ::access(dir.c_str(), W_OK) == 0 && (::access(path.c_str(), F_OK) != 0 || ::access(path.c_str(), W_OK) == 0);
+  }
+  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (!ok) throw ConfigError(std::string(option) + " '" + path + "' cannot be written");
+}
+
+void write_file(const std::string& path, const std::string& text) {
+  std::ofstream f(path, std::ios::trunc);
+  f << text;
+  if (!f) throw std::runtime_error("cannot write " + path);
+}
+
+RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
+  for (const auto& [path, opt] : {std::pair{req.profile, "--profile"}, {req.series, "--series"},
+                                  {req.centroids, "--centroids"}, {req.csv, "--csv"}})
+    check_writable(path, opt);
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const long measured = req.total_steps - 1;
+
+  RunOutcome out;
+  out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+  const CartDecomposition& dec = *out.decomp;
+  const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
+  if (is_root()) {
+    std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s\n",
+                req.program.c_str(), to_string(c.method), to_string(c.solver.comm), ranks,
+                to_string(dec.dims()).c_str(), to_string(dec.local()).c_str(), max_threads(), layout.cores.c_str());
+    if (layout.oversubscribed)
+      std::printf("warning: ranks x threads exceed the cores of a node: timings not representative, the row is "
+                  "marked oversubscribed and not valid\n");
+    std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up\n",
+                to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
+                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured);
+    if (c.method == PressureKind::sor) std::printf("  N_S = %d SOR sweeps per step", c.sor_sweeps);
+    if (c.solver.cn_sweeps > 0) std::printf("%sN_C = %d Crank-Nicolson sweeps per step", c.method == PressureKind::sor ? ", " : "  ", c.solver.cn_sweeps);
+    if (c.method == PressureKind::sor || c.solver.cn_sweeps > 0) std::printf("\n");
+    std::fflush(stdout);
+  }
+  out.solver = build_solver(c, dec, particles);
+  FsiSolver& solver = *out.solver;
+
+  const bool want_rows = !req.series.empty() || !req.centroids.empty();
+  std::string series = series_header(), centroid_rows = "step,time,region,volume,x,y,z\n";
+  auto record = [&]() {
+    const FlowDiagnostics d = solver.diagnostics();
+    if (!req.series.empty()) series += series_row(d);
+    if (!req.centroids.empty()) {
+      const std::vector<SolidRegion> regions = solid_regions(solver.state().phi(), c.domain, dec);
+      char b[200];
+      for (std::size_t r = 0; r < regions.size(); ++r) {
+        std::snprintf(b, sizeof b, "%ld,%.9g,%zu,%.9g,%.9g,%.9g,%.9g\n", d.step, d.time, r, regions[r].volume,
+                      regions[r].centroid[0], regions[r].centroid[1], regions[r].centroid[2]);
+        centroid_rows += b;
+      }
+    }
+    return d;
+  };
+  if (want_rows) record();
+
+  solver.step();  // warm-up: first touch of the work arrays, MPI connections
+  if (want_rows && req.every == 1) record();
+  solver.timers().reset();
+  const long total = req.total_steps;
+  const int progress = req.progress > 0 ? req.progress : (total >= 200 ? int(total / 20) : 0);
+
+  double elapsed = 0.0;
+  std::vector<FlowDiagnostics> tail;  // the last three steps, for the energy-budget check
+  for (long s = 1; s <= measured; ++s) {
+    const long done = s + 1;  // the warm-up step came first
+    const bool want_series = want_rows && done % req.every == 0;
+    const bool want_progress = progress > 0 && done % progress == 0;
+    const bool want_diag = want_series || want_progress || s + 3 > measured;
+    const double t0 = MPI_Wtime();
+    solver.step();
+    // Diagnostics need current ghosts: an async exchange is completed inside the timed
+    // step, so that every region the timers count lies within the measured time.
+    if (want_diag) solver.complete_exchange();
+    elapsed += MPI_Wtime() - t0;
+    std::optional<FlowDiagnostics> d;
+    if (want_series) d = record();
+    if (s + 3 > measured) tail.push_back(d ? *d : solver.diagnostics());
+    if (want_progress) {
+      if (!d) d = solver.diagnostics();
+      if (is_root())
+        std::printf("  step %8ld  t=%-10.5g beta=%-10.4g gamma=%-10.4g div_rms=%-10.3g  %.0f s left\n", done, d->time,
+                    d->beta, d->gamma, d->div_rms, elapsed / double(s) * double(measured - s));
+    }
+  }
+
+  const Validation v = validate(tail, c.domain);
+  out.valid = v.valid;
+  const TimerReport rep = summarize(solver.timers(), elapsed, dec.comm());
+  if (is_root()) {
+    std::fputs(timing_report_text(rep, measured, double(product(c.domain.cells))).c_str(), stdout);
+    std::printf("validation: div_max*dx/U_max = %.3g (limit 1e-2), energy budget residual %.3g of its largest "
+                "term (limit 0.02): %s\n",
+                v.div_ratio, v.budget, v.valid ? "SUCCESSFUL" : "FAILED");
+  }
+
+  const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());
+  if (is_root()) {
+    if (!req.profile.empty()) write_file(req.profile, prof);
+    if (!req.series.empty()) write_file(req.series, series);
+    if (!req.centroids.empty()) write_file(req.centroids, centroid_rows);
+    if (!req.csv.empty()) {
+      RunRecord r;
+      r.experiment = req.experiment;
+      r.method = to_string(c.method);
+      r.comm = to_string(c.solver.comm);
+      r.eps = req.eps;
+      r.ranks = ranks;
+      r.threads = max_threads();
+      r.px = dec.dims()[0], r.py = dec.dims()[1], r.pz = dec.dims()[2];
+      r.nx = c.domain.cells[0], r.ny = c.domain.cells[1], r.nz = c.domain.cells[2];
+      r.particles = static_cast<long>(particles.size());
+      r.steps = measured;
+      r.dt = c.solver.dt;
+      if (c.method == PressureKind::sor) r.ns_per_step = std::to_string(c.sor_sweeps);
+      if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
+      r.timing = rep;
+      r.div_rms = tail.back().div_rms;
+      r.valid = v.valid;
+      r.layout = layout;
+      append_csv(req.csv, r);
+    }
+  }
+  return out;
+}
+
+int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment,
+                     const std::string& eps, long steps, const std::string& csv) {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  const std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
+  RunRequest req;
+  req.program = program;
+  req.experiment = experiment;
+  req.eps = eps;
+  req.total_steps = steps + 1;
+  req.csv = csv;
+  return run_case(c, particles, req).valid ? 0 : 4;
+}
+
+}  // namespace efsi

@@ -1,0 +1,45 @@
+#pragma once
+// One measured run of a channel case, shared by every driver: set-up banner, warm-up
+// step, the timed steps, the validation phase (its failure invalidates the timing, as in
+// HPCG and NPB), the section-7 timing report, optional outputs and the section-8 CSV row.
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "channel_case.hpp"
+
+namespace efsi {
+
+struct RunRequest {
+  std::string program;      // for the banner
+  std::string experiment;   // the CSV's experiment column
+  std::string eps;          // the CSV's eps cell ("" where it does not apply)
+  long total_steps = 2;     // one warm-up step, then total_steps - 1 measured ones
+  int every = 10;           // steps between series and centroid rows
+  int progress = 0;         // print progress every N steps (0: 20 times in long runs)
+  // Optional outputs; "" for none. Written by rank 0 only after the run finished.
+  std::string series, centroids, profile, csv;
+};
+
+struct RunOutcome {
+  bool valid = false;                  // finite, divergence and energy budget in bounds
+  std::unique_ptr<FsiSolver> solver;   // the final state, for drivers that write fields
+  std::unique_ptr<CartDecomposition> decomp;
+};
+
+// Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating.
+RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
+
+// The scaling drivers' run: validates the case (ConfigError before anything is
+// allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`
+// ("" for none). Returns the exit status: 0 when the run's checks passed, 4 otherwise.
+int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment,
+                     const std::string& eps, long steps, const std::string& csv);
+
+// Collective. Throws ConfigError when `path` cannot be created or written; creates nothing.
+void check_writable(const std::string& path, const char* option);
+
+// Writes (truncates) a text file; throws std::runtime_error naming it.
+void write_file(const std::string& path, const std::string& text);
+
+}  // namespace efsi

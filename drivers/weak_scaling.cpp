@@ -1,0 +1,70 @@
+// weak_scaling: the paper's weak-scaling experiment (section 3.2, DESIGN.md section 5) on
+// however many ranks it is started with: a fixed block and particle count per rank, the
+// global box the rank grid times the block, walls bounding the outermost ranks in y.
+#include <mpi.h>
+
+#include "case_run.hpp"
+#include "config_error.hpp"
+#include "driver_support.hpp"
+#include "method_options.hpp"
+
+using namespace efsi;
+
+namespace {
+
+struct Options {
+  MethodOptions m;
+  int local = 64, particles_per_rank = 2;
+  std::optional<long> steps;
+  std::string decomp, csv;
+};
+
+int run(const Options& o) {
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  ChannelCase c;
+  // The paper's steps: ACM 50 of 1.25e-5, SOR (and the FFT reference) 10 of 6.25e-5.
+  const long steps = apply_scaling_defaults(o.m, c, o.steps);
+  if (o.local < 1) throw ConfigError("--local " + std::to_string(o.local) + " must be at least 1");
+  if (o.particles_per_rank < 0)
+    throw ConfigError("--particles-per-rank " + std::to_string(o.particles_per_rank) + " must be zero or positive");
+
+  Int3 dims{0, 0, 0};
+  if (!o.decomp.empty()) {
+    dims = parse_int3(o.decomp, "--decomp");
+    if (product(dims) != ranks)
+      throw ConfigError("--decomp " + o.decomp + " has " + std::to_string(product(dims)) + " ranks, started on " +
+                        std::to_string(ranks));
+  } else {
+    MPI_Dims_create(ranks, 3, dims.data());
+  }
+  c.forced_dims = dims;
+  for (int a = 0; a < 3; ++a) {
+    c.domain.cells[a] = dims[a] * o.local;
+    c.domain.length[a] = c.domain.cells[a] * (3.6 / 64);  // the paper's spacing
+  }
+  c.particles = o.particles_per_rank * ranks;
+  c.solver.velocity_limit = 100.0 * poiseuille_centre_velocity(c);
+
+  return run_scaling_case(c, "weak_scaling", "weak", eps_cell(o.m, c), steps, o.csv);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  CLI::App app{"The paper's weak-scaling case (DESIGN.md sections 5 and 8): a --local^3 block with "
+               "--particles-per-rank particles per rank, the global box the rank grid times the block.\n"
+               "Defaults are the paper's: ACM 50 steps of 1.25e-5; SOR and FFT 10 steps of 6.25e-5, SOR with N_S "
+               "from the calibration for --eps and N_C = 20. One warm-up step precedes the measured ones.",
+               "weak_scaling"};
+  app.add_option("--local", o.local, "cells per rank along each axis")->capture_default_str();
+  app.add_option("--particles-per-rank", o.particles_per_rank,
+                 "particles per rank: the first K x ranks sites of the lattice")
+      ->capture_default_str();
+  add_method_options(app, o.m, "1.25e-5 for acm, 6.25e-5 otherwise");
+  app.add_option("--steps", o.steps, "measured steps (default: 50 for acm, 10 otherwise)");
+  app.add_option("--decomp", o.decomp, "rank grid PX,PY,PZ (default: MPI_Dims_create)");
+  app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
+  return run_driver(argc, argv, app, [&] { return run(o); });
+}

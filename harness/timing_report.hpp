@@ -1,0 +1,13 @@
+#pragma once
+// DESIGN.md section 7's report as text: the slowest rank's elapsed time, per-region
+// minimum, mean and maximum over ranks, and the communication fraction.
+#include <string>
+
+#include "region_timers.hpp"
+
+namespace efsi {
+
+// `cells`: global cells, for the Mcell updates per second.
+std::string timing_report_text(const TimerReport& rep, long steps, double cells);
+
+}  // namespace efsi

@@ -1,0 +1,214 @@
+#!/usr/bin/env python3
+"""End-to-end tests of the experiment drivers weak_scaling, strong_scaling and accuracy
+through their command lines (DESIGN.md sections 5 and 8; issue 5).
+
+Rows with exactly the section-8 columns first, numbers where numbers belong, valid = 1 and a
+communication fraction in [0, 1], on 1 and 2 ranks; the weak-scaling box growing with the
+rank grid; the strong-scaling dry run of 8192 full-size ranks and its memory figure checked
+against a real run's resident size; the accuracy outputs (series, centroids, VTK image data);
+bad options: one line, exit status 2, nothing written.
+
+    test_scaling_cli.py --bin-dir BUILD/bin [unittest options]
+"""
+
+import re
+import struct
+import subprocess
+import sys
+
+import driver_harness
+from driver_harness import DriverTestCase, read_table, run, snapshot
+
+PAPER_DX = 3.6 / 64
+
+
+class WeakScaling(DriverTestCase):
+    program = "weak_scaling"
+
+    def test_rows_on_one_and_two_ranks(self):
+        # (ranks, arguments, method, comm, steps, dt): the paper's 64^3 block and 2 particles
+        # per rank, a few steps of every method.
+        runs = [
+            (1, ["--steps", "3"], "acm", "sync", 3, 1.25e-5),
+            (2, ["--steps", "3", "--comm", "async"], "acm", "async", 3, 1.25e-5),
+            (1, ["--method", "sor", "--ns", "30", "--nc", "3", "--steps", "2"], "sor", "sync", 2, 6.25e-5),
+            (2, ["--method", "sor", "--comm", "async", "--steps", "2", "--nc", "2"], "sor", "async", 2, 6.25e-5),
+            (2, ["--method", "fft", "--steps", "2"], "fft", "sync", 2, 6.25e-5),
+        ]
+        for n, (ranks, args, method, comm, steps, dt) in enumerate(runs, start=1):
+            with self.subTest(ranks=ranks, args=" ".join(args)):
+                self.run_ok(args + ["--csv", "weak.csv"], ranks=ranks)
+                _, rows = read_table(self.path("weak.csv"))
+                self.assertEqual(len(rows), n + 1)
+                header = rows[0]
+                self.check_header(header)
+                r = dict(zip(header, rows[n]))
+                dims = (int(r["px"]), int(r["py"]), int(r["pz"]))
+                cells = tuple(64 * p for p in dims)  # the global box is the rank grid times the block
+                self.check_row(header, rows[n], ranks, 1, cells, steps, 2 * ranks, comm, dims=dims,
+                               experiment="weak", method=method, dt=dt, div_rms_max=1.0)
+                if method == "sor":
+                    self.assertEqual(r["eps"], "" if "--ns" in args else "0.001")
+                    self.assertEqual(r["ns_per_step"], "30" if "--ns" in args else "213")
+
+    def test_paper_defaults_are_announced(self):
+        res = self.run_ok(["--steps", "1", "--local", "16", "--particles-per-rank", "0"], ranks=2)
+        self.assertRegex(res.out, r"acm, sync halo, 2 ranks as 2x1x1, local block 16x16x16")
+        self.assertRegex(res.out, r"32x16x16 cells, box 1\.8 x 0\.9 x 0\.9, 0 particles, G=50, dt=1\.25e-05")
+        res = self.run_ok(["--steps", "1", "--local", "16", "--particles-per-rank", "0", "--method", "sor"])
+        self.assertRegex(res.out, r"dt=6\.25e-05, 1 steps \+ 1 warm-up")
+        self.assertRegex(res.out, r"N_S = 213 SOR sweeps per step, N_C = 20 Crank-Nicolson sweeps per step")
+
+    def test_single_rank_mpi_time_is_near_zero(self):
+        # One rank: the halo partners are the rank itself and the reductions have one member.
+        self.run_ok(["--local", "32", "--particles-per-rank", "0", "--steps", "10", "--csv", "one.csv"])
+        _, rows = read_table(self.path("one.csv"))
+        v = self.check_row(rows[0], rows[1], 1, 1, (32, 32, 32), 10, 0, "sync", dims=(1, 1, 1),
+                           experiment="weak")
+        self.assertLess(v["comm_fraction"], 0.05, dict(zip(rows[0], rows[1])))
+
+
+class StrongScaling(DriverTestCase):
+    program = "strong_scaling"
+
+    def test_scaled_rows_on_one_and_two_ranks(self):
+        for n, ranks in enumerate((1, 2), start=1):
+            with self.subTest(ranks=ranks):
+                self.run_ok(["--scale", "16", "--steps", "2", "--csv", "strong.csv"], ranks=ranks)
+                _, rows = read_table(self.path("strong.csv"))
+                self.check_header(rows[0])
+                # 2048 x 1024 x 1024 / 16 with 16384 / 16^3 particles.
+                self.check_row(rows[0], rows[n], ranks, 1, (128, 64, 64), 2, 4, "sync", experiment="strong",
+                               div_rms_max=1.0)
+
+    def dry_run(self, ranks, *extra):
+        res = self.run_ok(["--dry-run", "--ranks", str(ranks)] + list(extra))
+        m = re.search(r"memory per rank: ([\d.]+) GiB \((\d+) fields ([\d.]+) GiB", res.out)
+        self.assertIsNotNone(m, res.out)
+        return res, float(m.group(1)), int(m.group(2)), float(m.group(3))
+
+    def test_dry_run_of_8192_full_size_ranks(self):
+        before = snapshot(self.dir)
+        res, total, fields, field_gib = self.dry_run(8192)
+        self.assertIn("2048x1024x1024 cells", res.out)
+        self.assertIn("16384 particles", res.out)
+        m = re.search(r"ranks 8192 as (\d+)x(\d+)x(\d+), local block (\d+)x(\d+)x(\d+)", res.out)
+        self.assertIsNotNone(m, res.out)
+        p, local = [int(x) for x in m.groups()[:3]], [int(x) for x in m.groups()[3:]]
+        self.assertEqual(p[0] * p[1] * p[2], 8192)
+        self.assertEqual([p[a] * local[a] for a in range(3)], [2048, 1024, 1024])
+        # Every field holds the 64^3 block and its halo (3 wide for the WENO5 fields at most):
+        # between 8 and 8 (64 + 2*3 + 8)^3 bytes per field.
+        self.assertEqual(local, [64, 64, 64])
+        per_field = field_gib * 2**30 / fields
+        self.assertGreater(per_field, 8 * 64**3)
+        self.assertLess(per_field, 8 * 78**3)
+        self.assertGreaterEqual(fields, 20, "state, work arrays and ACM fields")
+        self.assertEqual(snapshot(self.dir), before, "a dry run writes nothing")
+        # SOR with Crank-Nicolson keeps the iterate's arrays too; FFT adds its pencils.
+        _, _, sor_fields, _ = self.dry_run(8192, "--method", "sor")
+        self.assertGreater(sor_fields, fields)
+        fft, fft_total, _, _ = self.dry_run(8192, "--method", "fft")
+        self.assertGreater(fft_total, total)
+        self.assertIn("FFT pencils", fft.out)
+
+    def test_dry_run_memory_matches_a_real_run(self):
+        # The estimate counts the solver's arrays; the resident size of a real run adds MPI
+        # and the libraries (tens of MB). At 128 x 64 x 64 cells the arrays dominate.
+        for method in ("acm", "sor", "fft"):
+            with self.subTest(method=method):
+                _, estimate, _, _ = self.dry_run(1, "--scale", "16", "--method", method)
+                probe = ("import resource, subprocess, sys; "
+                         "subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL); "
+                         "print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss)")
+                out = subprocess.run([sys.executable, "-c", probe, driver_harness.program_path(self.program),
+                                      "--scale", "16", "--method", method, "--steps", "1"],
+                                     env=driver_harness.test_env(), capture_output=True, text=True, timeout=300)
+                self.assertEqual(out.returncode, 0, out.stderr)
+                rss_gib = int(out.stdout.split()[-1]) / 2**20
+                self.assertLess(estimate, rss_gib, "the arrays are part of what the run holds")
+                self.assertGreater(estimate, 0.7 * rss_gib, "estimate %.3f GiB, resident %.3f GiB" % (estimate, rss_gib))
+
+
+def read_vti_cells(path):
+    """The first cell array of a raw-appended .vti file: (extent, values)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    head = data[:data.index(b"<AppendedData")].decode()
+    extent = [int(x) for x in re.search(r'WholeExtent="([^"]+)"', head).group(1).split()]
+    start = data.index(b"_", data.index(b'encoding="raw"')) + 1
+    (nbytes,) = struct.unpack("<Q", data[start:start + 8])
+    values = struct.unpack("<%dd" % (nbytes // 8), data[start + 8:start + 8 + nbytes])
+    return extent, values
+
+
+class Accuracy(DriverTestCase):
+    program = "accuracy"
+
+    def test_small_case_writes_series_centroids_and_vtk(self):
+        args = ["--cells", "32", "--length", "3.6", "--t-end", "0.01", "--every", "5", "--csv", "acc.csv"]
+        for ranks in (1, 2):
+            with self.subTest(ranks=ranks):
+                self.run_ok(args, ranks=ranks)
+        _, rows = read_table(self.path("acc.csv"))
+        self.check_header(rows[0])
+        self.assertEqual([r[1] for r in rows[1:]], ["acm", "fft", "acm", "fft"])
+        for n, ranks in ((1, 1), (2, 1), (3, 2), (4, 2)):
+            self.check_row(rows[0], rows[n], ranks, 1, (32, 32, 32), 19, 2, "sync", experiment="accuracy",
+                           method=rows[n][1], dt=5e-4, div_rms_max=1.0)
+        for method in ("acm", "fft"):
+            _, series = read_table(self.path("series-%s.csv" % method))
+            self.assertEqual(series[0][:6], ["step", "time", "kinetic", "input", "eps_solid", "eps_fluid"])
+            self.assertEqual([int(r[0]) for r in series[1:]], [0, 5, 10, 15, 20])
+            _, centroids = read_table(self.path("centroids-%s.csv" % method))
+            self.assertEqual(centroids[0], ["step", "time", "region", "volume", "x", "y", "z"])
+            self.assertEqual(len(centroids) - 1, 2 * 5, "two particles at five times")
+            extent, phi = read_vti_cells(self.path("phi-%s.vti" % method))
+            self.assertEqual(extent, [0, 32, 0, 32, 0, 32])
+            self.assertEqual(len(phi), 32**3)
+            # The image holds the final phi: its mean is the series' conserved solid fraction.
+            mean = sum(phi) / len(phi)
+            self.assertAlmostEqual(mean, float(series[-1][10]), delta=1e-9)
+            self.assertGreater(max(phi), 0.9)
+        with open(self.path("comparison.txt")) as f:
+            text = f.read()
+        m = re.search(r"max \|phi diff\| (\S+); centroids (\S+) cells apart", text)
+        self.assertIsNotNone(m, text)
+        self.assertLess(float(m.group(1)), 1e-2, "ACM and the FFT reference agree over 20 steps")
+        self.assertLess(float(m.group(2)), 1e-2)
+
+
+class BadOptions(DriverTestCase):
+    CASES = [
+        ("weak_scaling", ["--method", "simple"], r"--method|simple"),
+        ("weak_scaling", ["--particles-per-rank", "5"], r"5|particles"),
+        ("weak_scaling", ["--local", "0"], r"--local 0"),
+        ("weak_scaling", ["--decomp", "2,1,1"], r"--decomp 2,1,1"),
+        ("weak_scaling", ["--comm", "later"], r"later"),
+        ("strong_scaling", ["--scale", "3"], r"--scale 3 .*16"),
+        ("strong_scaling", ["--scale", "32"], r"--scale 32"),
+        ("strong_scaling", ["--method", "multigrid"], r"multigrid"),
+        ("strong_scaling", ["--dry-run"], r"--ranks"),
+        ("strong_scaling", ["--dry-run", "--ranks", "7"], r"7"),
+        ("strong_scaling", ["--ranks", "4"], r"--ranks"),
+        ("accuracy", ["--methods", "acm,exact"], r"exact"),
+        ("accuracy", ["--out", "no_such_dir"], r"no_such_dir"),
+        ("accuracy", ["--cells", "8", "--length", "3.6"], r"."),
+    ]
+
+    def test_one_line_exit_2_nothing_written(self):
+        for program, args, pattern in self.CASES:
+            with self.subTest(program=program, args=" ".join(args)):
+                before = snapshot(self.dir)
+                res = run(args + ["--csv", "x.csv"], cwd=self.dir, program=program)
+                self.assertFalse(res.timed_out, str(res))
+                self.assertEqual(res.rc, 2, str(res))
+                lines = res.err.splitlines()
+                self.assertEqual(len(lines), 1, str(res))
+                self.assertTrue(lines[0].startswith(program + ": "), lines[0])
+                self.assertRegex(lines[0], pattern)
+                self.assertEqual(snapshot(self.dir), before, "a rejected run writes nothing")
+
+
+if __name__ == "__main__":
+    driver_harness.main()
