@@ -32,83 +32,21 @@
 //   global_cells, particles, ranks, steps_per_iteration, ns, nc: the set-up, for reference
 #include <mpi.h>
 
-#include <memory>
 #include <string>
-#include <vector>
 
-#include "channel_case.hpp"
-#include "decomposition.hpp"
-#include "fsi_solver.hpp"
-#include "fsi_state.hpp"
+#include "channel_setup.hpp"
 #include "mpi_benchmark.hpp"
-#include "particles.hpp"
 #include "region_timers.hpp"
 
 namespace {
 
 using namespace efsi;
+using bench::StepCase;
 
-constexpr int kBlock = 64;         // cells per rank per axis
-constexpr double kBlockLen = 3.6;  // length per rank per axis (one lattice cell: 2 particles)
-constexpr double kG = 50.0;
-
-struct StepCase {
-  PressureKind method;
-  CommMode mode;
-  double dt;
-  int ns;               // SOR sweeps per step (method sor)
-  int nc;               // Crank-Nicolson sweeps per step; 0: explicit stress
-  int steps_per_iter;
-};
-
-const std::vector<StepCase>& step_cases() {
-  static const std::vector<StepCase> cases{
-      {PressureKind::acm, CommMode::sync, 1.25e-5, 0, 0, 5},
-      {PressureKind::acm, CommMode::async, 1.25e-5, 0, 0, 5},
-      {PressureKind::sor, CommMode::sync, 6.25e-5, 213, 20, 2},
-      {PressureKind::sor, CommMode::async, 6.25e-5, 213, 20, 2},
-      {PressureKind::fft, CommMode::sync, 6.25e-5, 0, 0, 5},
-  };
-  return cases;
-}
-
-// BM_Step/acm/sync, BM_Step/sor_ns213_nc20/async, BM_Step/fft/sync.
-std::string bench_name(const StepCase& m) {
-  std::string name = std::string("BM_Step/") + to_string(m.method);
-  if (m.method == PressureKind::sor) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
-  else if (m.nc > 0) name += "_nc" + std::to_string(m.nc);
-  return name + "/" + to_string(m.mode);
-}
-
-struct Setup {
-  ChannelCase c;
-  std::vector<Particle> particles;
-  std::unique_ptr<CartDecomposition> dec;
-  std::unique_ptr<FsiSolver> solver;
-
-  explicit Setup(const StepCase& m) {
-    int p = 1;
-    MPI_Comm_size(MPI_COMM_WORLD, &p);
-    c.domain.cells = {kBlock * p, kBlock, kBlock};
-    c.domain.length = {kBlockLen * p, kBlockLen, kBlockLen};
-    c.solver.dt = m.dt;
-    c.solver.physics.G = kG;
-    c.solver.comm = m.mode;
-    c.solver.cn_sweeps = m.nc;
-    c.method = m.method;
-    c.sor_sweeps = m.ns;
-    // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
-    c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
-    c.forced_dims = {p, 1, 1};
-    // t_end only bounds the a-priori velocity for the time-step check: a generous run length.
-    particles = validate_case(c, p, 1000 * m.dt);
-    dec = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
-    solver = build_solver(c, *dec, particles);
-  }
-};
+constexpr int kBlock = 64;  // cells per rank per axis
 
 void BM_Step(benchmark::State& state, const StepCase& m) {
-  Setup s(m);
+  bench::ChannelSetup s(m, kBlock);
   FsiSolver& solver = *s.solver;
   solver.step();  // warm-up, outside the timers
   solver.timers().reset();
@@ -145,8 +83,8 @@ void BM_Step(benchmark::State& state, const StepCase& m) {
 
 // Registered before main() runs, like the BENCHMARK macros, under names built from the cases.
 [[maybe_unused]] const bool kRegistered = [] {
-  for (const StepCase& m : step_cases())
-    benchmark::RegisterBenchmark(bench_name(m).c_str(), BM_Step, m)
+  for (const StepCase& m : bench::paper_step_cases())
+    benchmark::RegisterBenchmark(("BM_Step/" + bench::step_case_name(m)).c_str(), BM_Step, m)
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond);
   return true;

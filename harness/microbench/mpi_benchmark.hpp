@@ -5,6 +5,8 @@
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
+#include <functional>
+
 namespace efsi::bench {
 
 // Times `body` on every rank and returns the slowest rank's time.
@@ -19,6 +21,8 @@ double max_over_ranks(MPI_Comm comm, Body&& body) {
 }
 
 // Replaces BENCHMARK_MAIN(): MPI start-up, quiet reporters on ranks other than 0.
-int run_main(int argc, char** argv);
+// before_finalize (optional) runs after the last benchmark and before MPI_Finalize: it
+// releases set-ups a benchmark file keeps between benchmarks (communicators, MPI buffers).
+int run_main(int argc, char** argv, const std::function<void()>& before_finalize = {});
 
 }  // namespace efsi::bench

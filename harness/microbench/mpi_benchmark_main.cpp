@@ -17,7 +17,7 @@ class NullReporter : public benchmark::BenchmarkReporter {
 
 }  // namespace
 
-int run_main(int argc, char** argv) {
+int run_main(int argc, char** argv, const std::function<void()>& before_finalize) {
   efsi::Runtime runtime(argc, argv);
   // Only rank 0 writes --benchmark_out; the others drop the option before parsing.
   if (runtime.rank() != 0) {
@@ -39,6 +39,7 @@ int run_main(int argc, char** argv) {
     benchmark::RunSpecifiedBenchmarks(&display);
   }
   benchmark::Shutdown();
+  if (before_finalize) before_finalize();
   return 0;
 }
 

@@ -1,0 +1,84 @@
+#pragma once
+// The paper's weak-scaling channel block for the micro-benchmarks: `block`^3 cells of 3.6^3
+// per rank (one lattice cell, two body-centred particles), ranks side by side in x (global
+// cells {block P, block, block}, box {3.6 P, 3.6, 3.6}), G = 50, built the way every driver
+// builds a run: ChannelCase -> validate_case -> CartDecomposition -> build_solver.
+// bench_step uses it at block 64; bench_kernels at 32 and 64 (the box stays 3.6^3 per rank,
+// so 32^3 has twice the spacing and the same particles).
+#include <mpi.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "channel_case.hpp"
+#include "decomposition.hpp"
+#include "fsi_solver.hpp"
+#include "fsi_state.hpp"
+#include "particles.hpp"
+
+namespace efsi::bench {
+
+inline constexpr double kBlockLen = 3.6;  // length per rank per axis (one lattice cell: 2 particles)
+inline constexpr double kShearModulus = 50.0;
+
+// One method's settings for a whole step.
+struct StepCase {
+  PressureKind method;
+  CommMode mode;
+  double dt;
+  int ns;              // SOR sweeps per step (method sor)
+  int nc;              // Crank-Nicolson sweeps per step; 0: explicit stress
+  int steps_per_iter;  // steps timed together in one benchmark iteration
+};
+
+// The paper's three methods in both communication modes (FFT: sync only), as bench_step
+// runs them: ACM dt 1.25e-5 explicit stress; SOR dt 6.25e-5, N_S = 213 (eps 1e-3 at 64^3),
+// Crank-Nicolson stress by N_C = 20 sweeps; FFT dt 6.25e-5, explicit stress.
+inline const std::vector<StepCase>& paper_step_cases() {
+  static const std::vector<StepCase> cases{
+      {PressureKind::acm, CommMode::sync, 1.25e-5, 0, 0, 5},
+      {PressureKind::acm, CommMode::async, 1.25e-5, 0, 0, 5},
+      {PressureKind::sor, CommMode::sync, 6.25e-5, 213, 20, 2},
+      {PressureKind::sor, CommMode::async, 6.25e-5, 213, 20, 2},
+      {PressureKind::fft, CommMode::sync, 6.25e-5, 0, 0, 5},
+  };
+  return cases;
+}
+
+// "acm/sync", "sor_ns213_nc20/async", "fft/sync".
+inline std::string step_case_name(const StepCase& m) {
+  std::string name = to_string(m.method);
+  if (m.method == PressureKind::sor) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
+  else if (m.nc > 0) name += "_nc" + std::to_string(m.nc);
+  return name + "/" + to_string(m.mode);
+}
+
+struct ChannelSetup {
+  ChannelCase c;
+  std::vector<Particle> particles;
+  std::unique_ptr<CartDecomposition> dec;
+  std::unique_ptr<FsiSolver> solver;
+
+  ChannelSetup(const StepCase& m, int block) {
+    int p = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &p);
+    c.domain.cells = {block * p, block, block};
+    c.domain.length = {kBlockLen * p, kBlockLen, kBlockLen};
+    c.solver.dt = m.dt;
+    c.solver.physics.G = kShearModulus;
+    c.solver.comm = m.mode;
+    c.solver.cn_sweeps = m.nc;
+    c.method = m.method;
+    c.sor_sweeps = m.ns;
+    // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
+    c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
+    c.forced_dims = {p, 1, 1};
+    // t_end only bounds the a-priori velocity for the time-step check: a generous run length.
+    particles = validate_case(c, p, 1000 * m.dt);
+    dec = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+    solver = build_solver(c, *dec, particles);
+  }
+};
+
+}  // namespace efsi::bench

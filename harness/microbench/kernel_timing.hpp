@@ -1,0 +1,62 @@
+#pragma once
+// The timing loop and the roofline counters every bench_kernels benchmark shares.
+//
+// Each iteration runs `calls` calls of the kernel on every rank at once and takes the
+// slowest rank's time (max_over_ranks): the manual time of the iteration, the same on every
+// rank, so Google Benchmark picks the same iteration count everywhere (Google Benchmark's
+// own time column is per iteration; the counters below are per call).  After the loop, and
+// outside the manual time, the STREAM-triad probe runs kProbePasses times.
+//
+// Counters (rank 0, per call of the kernel (per unit of work: one SOR sweep), per rank):
+//   min_us, median_us   fastest and median iteration, wall time (the time Google Benchmark
+//                       reports is the mean, which one preempted iteration on a shared machine
+//                       drags)
+//   cpu_min_us          fastest iteration in CPU time (kernel_clock.hpp)
+//   bytes_per_cell, flops_per_cell   the kernel's counted traffic and work (see the comment
+//                       beside each kernel), per owned cell of one rank
+//   GBps, GFLOPs        counted bytes and flops of one rank / median time (1e9 per second)
+//   triad_us, triad_cpu_us, triad_GBps  the probe's fastest pass (wall, CPU) and one rank's
+//                       triad bandwidth from the wall time
+//   roofline_fraction   GBps / triad_GBps: the share of the measured memory bandwidth the
+//                       kernel reaches (above 1 for kernels whose data stay in cache)
+//   ratio               cpu_min_us / triad_cpu_us: the kernel's time in units of the probe's
+//                       time, machine-independent to first order; the CI gate compares it
+//                       (gate.py takes the probe's least CPU time over the whole run)
+//   wall_ratio          min_us / triad_us, the same in wall time
+#include <benchmark/benchmark.h>
+#include <mpi.h>
+
+#include <vector>
+
+#include "kernel_clock.hpp"
+
+namespace efsi::bench {
+
+inline constexpr int kProbePasses = 5;
+
+// Counted cost of one call on one rank.
+struct KernelCost {
+  double cells = 1;           // owned cells per rank the call works on
+  double bytes_per_cell = 0;  // bytes one unit must move, per cell
+  double flops_per_cell = 0;  // flops one unit does, per cell
+  int units = 1;              // units of work per call (sweeps for SOR): times are per unit
+};
+
+// Sets the counters above from the per-call times of the iterations.
+void report_kernel(benchmark::State& state, std::vector<Times>& times, const KernelCost& cost);
+
+template <class Body>
+void time_kernel(benchmark::State& state, const KernelCost& cost, int calls, Body&& body) {
+  std::vector<Times> times;
+  for (auto _ : state) {
+    const Times t = max_times_over_ranks(MPI_COMM_WORLD, [&] {
+      for (int c = 0; c < calls; ++c) body();
+    });
+    state.SetIterationTime(t.wall);
+    const double per = static_cast<double>(calls) * cost.units;
+    times.push_back({t.wall / per, t.cpu / per});
+  }
+  report_kernel(state, times, cost);
+}
+
+}  // namespace efsi::bench

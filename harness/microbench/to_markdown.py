@@ -1,0 +1,42 @@
+#!/usr/bin/python3
+"""Markdown table of a bench_kernels JSON run (harness/microbench/README.md).
+
+  to_markdown.py RUN.json [--machine dev-2core] [> table.md]
+
+Columns: median time per call (median over repetitions of each repetition's median
+iteration), counted bytes and flops per cell, achieved GB/s and GFLOP/s per rank from the
+median time, the fraction of the in-run STREAM-triad bandwidth (per rank, all ranks
+streaming together) the kernel reaches, and the gate's ratio (least CPU time / the triad
+probe's least CPU time).
+"""
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import bench_json  # noqa: E402
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("run")
+    ap.add_argument("--machine", default="dev-2core")
+    a = ap.parse_args()
+    doc = bench_json.load(a.run)
+    s, _ = bench_json.summary(doc)
+    probe = bench_json.probe_us(doc, "triad_us")
+    ctx = doc.get("context", {})
+    triad = max(r["triad_GBps"] for r in s.values())
+    print(f"Machine `{a.machine}`, {ctx.get('mpi_ranks', '?')} MPI ranks x {ctx.get('omp_threads', '?')} "
+          f"OpenMP threads, {ctx.get('date', '')}; STREAM triad {triad:.1f} GB/s per rank "
+          f"(fastest pass {probe:.0f} us).\n")
+    print("| kernel | median time (us) | B/cell | flop/cell | GB/s | GFLOP/s | fraction of triad | ratio |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
+    for name, r in s.items():
+        print(f"| {name} | {r['median_us']:.4g} | {r['bytes_per_cell']:.4g} | {r['flops_per_cell']:.4g} | "
+              f"{r['GBps']:.3g} | {r['GFLOPs']:.3g} | {r['roofline_fraction']:.3f} | {r['ratio']:.4g} |")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
