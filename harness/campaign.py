@@ -165,6 +165,8 @@ def cmd_local(args):
     if not args.csv:
         raise UsageError("--csv FILE is required (where the result rows go)")
     csv_path = os.path.abspath(args.csv)
+    if not args.dry_run and not shutil.which(args.launcher):
+        raise UsageError(f"launcher '{args.launcher}' not found")
     env = dict(os.environ, OMP_NUM_THREADS=str(args.threads))
     env.setdefault("OMP_PLACES", "cores")
     env.setdefault("OMP_PROC_BIND", "close")
@@ -192,8 +194,9 @@ def cmd_local(args):
         wall = time.monotonic() - t0
         if rc != 0:
             failed += 1
-            last = [l for l in out.splitlines() if l.strip()][-3:]
-            print(f"  FAILED ({rc}) after {wall:.1f} s: " + " | ".join(last), flush=True)
+            lines = [l for l in out.splitlines() if l.strip()]
+            why = [l for l in lines if "error" in l.lower()][:2] or lines[-3:]
+            print(f"  FAILED ({rc}) after {wall:.1f} s: " + " | ".join(why), flush=True)
         else:
             print(f"  done in {wall:.1f} s", flush=True)
     if not args.dry_run:
@@ -270,12 +273,13 @@ def cmd_slurm(args):
                          f"exceeds --cores-per-node {args.cores_per_node}")
     d = bin_dir(args, check=False)
     out = os.path.abspath(args.out)
+    extras = {s.name: size_options(args, s) for s in selected_sweeps(args)}  # checked before writing
     os.makedirs(out, exist_ok=True)
     cmdline = shlex.join([PROG] + sys.argv[1:])
     manifest = [("script", "sweep", "driver", "ranks", "nodes", "cpus_per_task", "configs", "repeats", "csv")]
     names = []
     for sweep in selected_sweeps(args):
-        extra = size_options(args, sweep)
+        extra = extras[sweep.name]
         csv_path = os.path.abspath(args.csv) if args.csv else os.path.join(out, f"results-{sweep.name}.csv")
         configs = args.configs or sweep.configs
         for ranks in args.ranks or sweep.ranks:

@@ -149,6 +149,13 @@ def scaling_figure(plt, paper, ours, loaded, kind):
 
 # --- Markdown tables -----------------------------------------------------------------------------
 
+def display_path(path):
+    """Inside the repository: relative to its root; elsewhere: absolute."""
+    repo = os.path.dirname(HERE)
+    full = os.path.abspath(path)
+    return os.path.relpath(full, repo) if full.startswith(repo + os.sep) else full
+
+
 def fmt_time(x):
     return f"{x:.4g}"
 
@@ -180,7 +187,7 @@ def write_table(path, kind, paper, ours, loaded, sources, paper_path):
     out = [f"# Table {number} analogue: {what.lower()}, elapsed time T_M and {ref.split(' ')[0]}", "",
            f"Cells: `T_M` in seconds (slowest rank, measured steps only) and in brackets {ref}.",
            "Only rows with valid=1; repeated runs of one point give the median.", ""]
-    out.append(f"## This benchmark ({', '.join(os.path.relpath(s) for s in sources)})")
+    out.append(f"## This benchmark ({', '.join(display_path(s) for s in sources)})")
     out.append("")
     if ours:
         fields = rd.varying_setup_fields(ours)
@@ -193,7 +200,7 @@ def write_table(path, kind, paper, ours, loaded, sources, paper_path):
         out.append(f"No valid {kind}-scaling rows in the input.")
     if loaded.skipped:
         out += ["", f"Skipped: {loaded.skipped_text()}."]
-    out += ["", f"## Paper, Table {number} ({PAPER_MACHINE}; {os.path.relpath(paper_path)})", ""]
+    out += ["", f"## Paper, Table {number} ({PAPER_MACHINE}; {display_path(paper_path)})", ""]
     lines, _ = markdown_scaling_table(paper, kind, [])
     out += lines
     out.append("")
@@ -254,36 +261,51 @@ def energy_figure(plt, acc_dir):
 
 
 def trajectory_figure(plt, acc_dir, box):
+    """x-y and x-z paths, y against t, and how far each ACM particle is from its FFT twin."""
     tracks = {m: tj.track(os.path.join(acc_dir, f"centroids-{m}.csv"), box) for m in ("fft", "acm")}
     pairs = tj.pair_tracks(tracks["fft"], tracks["acm"], box)
-    fig, (axxy, axyt) = plt.subplots(1, 2, figsize=(12, 4.8))
+    fig, ((axxy, axxz), (axyt, axdist)) = plt.subplots(2, 2, figsize=(12, 9))
     cmap = plt.get_cmap("tab20")
     for i, (ref, j) in enumerate(zip(tracks["fft"], pairs)):
         colour = cmap(i % 20)
-        axxy.plot(ref["x"], ref["y"], color=colour, linestyle="--", linewidth=1.2)
-        axyt.plot(ref["time"], ref["y"], color=colour, linestyle="--", linewidth=1.2)
-        axxy.plot(ref["x"][:1], ref["y"][:1], color=colour, marker="o", markersize=3)
-        if j is not None:
-            acm = tracks["acm"][j]
-            axxy.plot(acm["x"], acm["y"], color=colour, linestyle="-", linewidth=1.2)
-            axyt.plot(acm["time"], acm["y"], color=colour, linestyle="-", linewidth=1.2)
+        acm = tracks["acm"][j] if j is not None else None
+        for ax, xs, ys in ((axxy, "x", "y"), (axxz, "x", "z"), (axyt, "time", "y")):
+            ax.plot(ref[xs], ref[ys], color=colour, linestyle="--", linewidth=1.2)
+            if acm:
+                ax.plot(acm[xs], acm[ys], color=colour, linestyle="-", linewidth=1.2)
+            if ax is not axyt:
+                ax.plot(ref[xs][:1], ref[ys][:1], color=colour, marker="o", markersize=3)
+        if acm:
+            common = sorted(set(ref["time"]) & set(acm["time"]))
+            at_ref = {t: k for k, t in enumerate(ref["time"])}
+            at_acm = {t: k for k, t in enumerate(acm["time"])}
+            dist = [math.dist([ref[c][at_ref[t]] for c in "xyz"], [acm[c][at_acm[t]] for c in "xyz"])
+                    for t in common]
+            keep = [(t, d) for t, d in zip(common, dist) if d > 0]
+            if keep:
+                axdist.plot(*zip(*keep), color=colour, linewidth=1.2)
     paired = {j for j in pairs if j is not None}
     for j, acm in enumerate(tracks["acm"]):
         if j not in paired:
             axxy.plot(acm["x"], acm["y"], color="gray", linewidth=1)
+            axxz.plot(acm["x"], acm["z"], color="gray", linewidth=1)
     axxy.plot([], [], color="black", linestyle="-", label=f"ACM ({len(tracks['acm'])} tracks)")
     axxy.plot([], [], color="black", linestyle="--", label=f"FFT reference ({len(tracks['fft'])} tracks)")
-    axxy.set_xlabel("streamwise x (unwrapped across the periodic side)")
-    axxy.set_ylabel("wall-normal y")
-    axxy.set_ylim(0, box[1])
     axxy.legend(fontsize=8, loc="best")
-    axxy.set_title("Particle centroids, x-y (circles: start)", fontsize=10)
-    axyt.set_xlabel("time t")
-    axyt.set_ylabel("wall-normal y")
-    axyt.set_ylim(0, box[1])
-    axyt.set_title("Wall-normal position against time (same colours)", fontsize=10)
-    for ax in (axxy, axyt):
+    axxy.set(xlabel="streamwise x (unwrapped across the periodic side)", ylabel="wall-normal y", ylim=(0, box[1]))
+    axxy.set_title("Centroid paths, side view (circles: start)", fontsize=10)
+    axxz.set(xlabel="streamwise x (unwrapped)", ylabel="spanwise z (unwrapped)")
+    axxz.set_title("Centroid paths, top view", fontsize=10)
+    axyt.set(xlabel="time t", ylabel="wall-normal y", ylim=(0, box[1]))
+    axyt.set_title("Wall-normal position against time", fontsize=10)
+    axdist.set(xlabel="time t", ylabel="|centroid ACM - centroid FFT|")
+    if axdist.get_lines():
+        axdist.set_yscale("log")
+    axdist.set_title("Distance between each ACM particle and its FFT twin", fontsize=10)
+    for ax in (axxy, axxz, axyt, axdist):
         ax.grid(True, alpha=0.3)
+    fig.suptitle("Particle trajectories: ACM (solid) beside the FFT reference (dashed), one colour per particle",
+                 fontsize=11)
     fig.tight_layout()
     return fig
 

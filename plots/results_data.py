@@ -60,7 +60,7 @@ class Setup:
     host: str
 
     def describe(self, fields):
-        parts = {"block": self.block, "steps": f"{self.steps} steps", "threads": f"{self.threads} thr",
+        parts = {"block": self.block, "steps": f"{self.steps} steps", "threads": f"{self.threads} thread(s)/rank",
                  "host": self.host}
         return ", ".join(parts[f] for f in fields)
 

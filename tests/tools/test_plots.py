@@ -1,0 +1,205 @@
+#!/usr/bin/python3
+"""Tests of plots/make_plots.py on the committed driver outputs in tests/tools/data/.
+
+data/weak-mini.csv and data/strong-mini.csv are rows written by weak_scaling and
+strong_scaling (campaign.py local, 1 and 2 ranks, 2 steps, two repeats of every point);
+data/accuracy/ is the output of `accuracy --cells 48 --t-end 1 --every 100` (see
+data/README.md).  Checked: every figure (PNG and PDF) and both Markdown tables are written;
+the tables give the median of the repeats and T_first/T_M of the same configuration,
+recomputed here from the CSV; the paper's Tables 2 and 4 are listed beside ours; rows with
+valid != 1 are skipped and said so; particles are followed across outputs; bad input gives
+one line and exit status 2.
+"""
+
+import collections
+import csv
+import os
+import re
+import shutil
+import statistics
+import subprocess
+import sys
+import tempfile
+import unittest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+REPO = os.path.dirname(os.path.dirname(HERE))
+PLOTS = os.path.join(REPO, "plots", "make_plots.py")
+DATA = os.path.join(HERE, "data")
+WEAK = os.path.join(DATA, "weak-mini.csv")
+STRONG = os.path.join(DATA, "strong-mini.csv")
+ACCURACY = os.path.join(DATA, "accuracy")
+FIGURES = ("fig2_energy_budget", "fig3_weak_efficiency", "fig4_comm_fraction", "fig5_strong_speedup",
+           "particle_trajectories")
+
+sys.path.insert(0, os.path.join(REPO, "plots"))
+import trajectories  # noqa: E402
+
+
+def make_plots(*args):
+    return subprocess.run([sys.executable, PLOTS, *args], capture_output=True, text=True, timeout=240)
+
+
+def expected_cells(path):
+    """(method, comm, eps) -> {ranks: 'T s (ratio' } recomputed from the CSV: median of valid rows."""
+    times = collections.defaultdict(lambda: collections.defaultdict(list))
+    with open(path) as f:
+        for row in csv.DictReader(f):
+            if row["valid"] == "1":
+                eps = "%g" % float(row["eps"]) if row["eps"] else ""
+                times[(row["method"], row["comm"], eps)][int(row["ranks"])].append(float(row["elapsed_s"]))
+    out = {}
+    for key, by_ranks in times.items():
+        first = statistics.median(by_ranks[min(by_ranks)])
+        out[key] = {r: (statistics.median(t), len(t), first / statistics.median(t)) for r, t in by_ranks.items()}
+    return out
+
+
+def section(text, title_start):
+    """The Markdown between a '## title' line and the next '## '."""
+    m = re.search(rf"(?ms)^## {re.escape(title_start)}.*?(?=^## |\Z)", text)
+    assert m, title_start
+    return m.group(0)
+
+
+class Figures(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.out = tempfile.mkdtemp(prefix="efsi-plots-")
+        cls.r = make_plots("--csv", WEAK, "--csv", STRONG, "--accuracy-dir", ACCURACY, "--box", "7.2",
+                           "--out", cls.out)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.out, True)
+
+    def read(self, name):
+        with open(os.path.join(self.out, name)) as f:
+            return f.read()
+
+    def test_every_figure_is_written(self):
+        self.assertEqual(self.r.returncode, 0, self.r.stdout + self.r.stderr)
+        for name in FIGURES:
+            for ext, magic in (("png", b"\x89PNG\r\n\x1a\n"), ("pdf", b"%PDF")):
+                path = os.path.join(self.out, f"{name}.{ext}")
+                self.assertTrue(os.path.isfile(path), path)
+                with open(path, "rb") as f:
+                    self.assertEqual(f.read(len(magic)), magic, path)
+                self.assertGreater(os.path.getsize(path), 10000, path)
+        for name in ("table2_weak.md", "table4_strong.md"):
+            self.assertTrue(os.path.isfile(os.path.join(self.out, name)))
+        self.assertNotIn("skipped", self.r.stdout)
+
+    def check_table(self, name, csv_path, first_title):
+        text = self.read(name)
+        ours = section(text, "This benchmark")
+        expected = expected_cells(csv_path)
+        self.assertTrue(expected)
+        for (method, comm, eps), by_ranks in expected.items():
+            label = {"acm": "ACM", "sor": "SOR", "fft": "FFT"}[method] + f" {comm}"
+            if eps:
+                label += f" eps={eps.replace('0.001', '1e-3').replace('0.0001', '1e-4')}"
+            header = next(l for l in ours.splitlines() if l.startswith("| ranks"))
+            columns = [c.strip() for c in header.strip("|").split("|")]
+            col = columns.index(label)
+            for ranks, (median, runs, ratio) in by_ranks.items():
+                row = next(l for l in ours.splitlines() if l.startswith(f"| {ranks:,} |"))
+                cell = [c.strip() for c in row.strip("|").split("|")][col]
+                want = f"{median:.4g} s ({ratio:.3f}" + (f", median of {runs})" if runs > 1 else ")")
+                self.assertEqual(cell, want, f"{name} {label} ranks {ranks}")
+        return text
+
+    def test_table2_medians_and_efficiency_beside_the_paper(self):
+        text = self.check_table("table2_weak.md", WEAK, "This benchmark")
+        paper = section(text, "Paper, Table 2")
+        # ACM: T_1 = 21.57 s, T_8192 = 31.96 s -> 0.675; SOR sync 1e-4 at 8192: 26.81/102.20.
+        self.assertRegex(paper, r"\| 1 \| 24.94 s \(1.000\) \| 24.3 s \(1.000\) \|")
+        self.assertIn("31.96 s (0.675)", paper)
+        self.assertIn("102.2 s (0.262)", paper)
+        self.assertEqual(len([l for l in paper.splitlines() if re.match(r"\| [\d,]+ \|", l)]), 14)
+
+    def test_table4_speedup_beside_the_paper(self):
+        text = self.check_table("table4_strong.md", STRONG, "This benchmark")
+        paper = section(text, "Paper, Table 4")
+        self.assertIn("210.9 s (1.000)", paper)
+        self.assertIn("31.96 s (6.598)", paper)  # the paper's 82 % efficiency at 8192 cores
+        self.assertEqual(len([l for l in paper.splitlines() if re.match(r"\| [\d,]+ \|", l)]), 4)
+
+
+class SkippedRows(unittest.TestCase):
+    def test_invalid_rows_are_left_out_and_reported(self):
+        tmp = tempfile.mkdtemp(prefix="efsi-plots-skip-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        with open(WEAK) as f:
+            rows = list(csv.DictReader(f))
+            fields = list(rows[0].keys())
+        # The driver's own row, marked as a run whose checks failed.
+        rows[0]["valid"] = "0"
+        marked = os.path.join(tmp, "weak-marked.csv")
+        with open(marked, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=fields)
+            w.writeheader()
+            w.writerows(rows)
+        r = make_plots("--csv", marked, "--out", os.path.join(tmp, "out"))
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("skipped 1 rows with valid != 1", r.stdout)
+        with open(os.path.join(tmp, "out", "table2_weak.md")) as f:
+            text = f.read()
+        self.assertIn("Skipped: 1 rows with valid != 1.", text)
+        # The point of the skipped row now rests on the other repeat alone.
+        first = rows[0]
+        others = [x for x in rows[1:] if (x["method"], x["comm"], x["eps"], x["ranks"]) ==
+                  (first["method"], first["comm"], first["eps"], first["ranks"])]
+        self.assertEqual(len(others), 1)
+        self.assertIn(f"{float(others[0]['elapsed_s']):.4g} s (", text)
+        for ext in ("png", "pdf"):
+            self.assertTrue(os.path.isfile(os.path.join(tmp, "out", f"fig3_weak_efficiency.{ext}")))
+
+
+class Trajectories(unittest.TestCase):
+    def test_every_particle_is_followed_through_every_output(self):
+        for method in ("acm", "fft"):
+            path = os.path.join(ACCURACY, f"centroids-{method}.csv")
+            with open(path) as f:
+                rows = list(csv.DictReader(f))
+            steps = sorted({int(r["step"]) for r in rows})
+            at_start = sum(1 for r in rows if int(r["step"]) == steps[0])
+            tracks = trajectories.track(path, (7.2, 7.2, 7.2))
+            self.assertEqual(len(tracks), at_start, method)
+            for t in tracks:
+                self.assertEqual(len(t["time"]), len(steps), method)
+                # Carried downstream by the flow: x (unwrapped) does not go back.
+                self.assertGreaterEqual(t["x"][-1], t["x"][0] - 1e-9, method)
+        acm = trajectories.track(os.path.join(ACCURACY, "centroids-acm.csv"), (7.2,) * 3)
+        fft = trajectories.track(os.path.join(ACCURACY, "centroids-fft.csv"), (7.2,) * 3)
+        pairs = trajectories.pair_tracks(fft, acm, (7.2,) * 3)
+        self.assertEqual(sorted(pairs), list(range(len(acm))))
+
+
+class Errors(unittest.TestCase):
+    def test_one_line_and_status_2(self):
+        tmp = tempfile.mkdtemp(prefix="efsi-plots-bad-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        out = os.path.join(tmp, "out")
+        cases = [
+            ([], "give at least one --csv"),
+            (["--csv", os.path.join(tmp, "missing.csv")], "missing.csv"),
+            (["--csv", os.path.join(ACCURACY, "series-acm.csv")], "not a results CSV"),
+            (["--csv", WEAK, "--formats", "gif"], "gif"),
+            (["--accuracy-dir", tmp], "series-acm.csv"),
+            (["--accuracy-dir", ACCURACY, "--box", "0,1,1"], "0,1,1"),
+            (["--csv", WEAK, "--bogus"], "--bogus"),
+        ]
+        for args, needle in cases:
+            with self.subTest(args=args):
+                r = make_plots(*args, "--out", out)
+                self.assertEqual(r.returncode, 2, r.stdout + r.stderr)
+                lines = r.stderr.splitlines()
+                self.assertEqual(len(lines), 1, r.stderr)
+                self.assertTrue(lines[0].startswith("make_plots.py: error: "), lines[0])
+                self.assertIn(needle, lines[0])
+                self.assertFalse(os.path.exists(out))
+
+
+if __name__ == "__main__":
+    unittest.main()
