@@ -168,10 +168,15 @@ def cmd_local(args):
     if not args.dry_run and not shutil.which(args.launcher):
         raise UsageError(f"launcher '{args.launcher}' not found")
     env = dict(os.environ, OMP_NUM_THREADS=str(args.threads))
-    env.setdefault("OMP_PLACES", "cores")
-    env.setdefault("OMP_PROC_BIND", "close")
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT", "1")
     env.setdefault("OMPI_ALLOW_RUN_AS_ROOT_CONFIRM", "1")
+    # Threads pinned inside each rank's cores when the launcher binds the ranks; unbound ranks
+    # (oversubscribed, --no-bind) would all pin their threads from core 0 on, so they float.
+    bound_env = dict(env)
+    bound_env.setdefault("OMP_PLACES", "cores")
+    bound_env.setdefault("OMP_PROC_BIND", "close")
+    unbound_env = dict(env)
+    unbound_env.setdefault("OMP_PROC_BIND", "false")
     runs = [(s, p) for s in selected_sweeps(args) for p in points(args, s)]
     extra = {s.name: size_options(args, s) for s in selected_sweeps(args)}
     failed = 0
@@ -179,14 +184,16 @@ def cmd_local(args):
         prefix, over = launcher_command(args.launcher, ranks, args.threads, args.cores, not args.no_bind)
         drv = sweeps.driver_command(sweep, config, extra[sweep.name], csv_path)
         cmd = prefix + [os.path.join(d, drv[0])] + drv[1:]
+        run_env = unbound_env if over or args.no_bind else bound_env
         tag = f"[{n}/{len(runs)}] {sweep.name} ranks={ranks} threads={args.threads} {config.name} repeat={rep + 1}"
         note = " (oversubscribed: marked, not valid)" if over else ""
-        print(f"{tag}{note}\n  OMP_NUM_THREADS={args.threads} {shlex.join(cmd)}", flush=True)
+        omp = " ".join(f"{k}={run_env[k]}" for k in ("OMP_NUM_THREADS", "OMP_PLACES", "OMP_PROC_BIND") if k in run_env)
+        print(f"{tag}{note}\n  {omp} {shlex.join(cmd)}", flush=True)
         if args.dry_run:
             continue
         t0 = time.monotonic()
         try:
-            r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+            r = subprocess.run(cmd, env=run_env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
                                timeout=args.timeout)
             rc, out = r.returncode, r.stdout
         except subprocess.TimeoutExpired as e:
