@@ -17,11 +17,25 @@ std::string env(const char* name) {
   return s;
 }
 
-// This process's CPU set as ranges, e.g. "0-3+8".
+// The cores this rank's OpenMP threads may run on, as ranges, e.g. "0-3+8": the union of
+// the threads' masks, since with OMP_PROC_BIND each thread (the initial one too) is pinned
+// to its own place and no single thread's mask shows the rank's cores.
 std::string my_cores() {
   cpu_set_t set;
   CPU_ZERO(&set);
-  if (sched_getaffinity(0, sizeof set, &set) != 0) return "?";
+  bool ok = true;
+#pragma omp parallel
+  {
+    cpu_set_t mine;
+    CPU_ZERO(&mine);
+    const bool got = sched_getaffinity(0, sizeof mine, &mine) == 0;
+#pragma omp critical(efsi_hybrid_layout)
+    {
+      ok = ok && got;
+      CPU_OR(&set, &set, &mine);
+    }
+  }
+  if (!ok) return "?";
   std::string out;
   for (int c = 0; c < CPU_SETSIZE; ++c) {
     if (!CPU_ISSET(c, &set)) continue;

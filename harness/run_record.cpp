@@ -71,7 +71,8 @@ const std::vector<std::string>& csv_columns() {
 
 std::string csv_row(const RunRecord& r) {
   const TimerReport& t = r.timing;
-  const double halo_mean = t[Region::halo_pack].mean + t[Region::halo_unpack].mean + t[Region::halo_mpi].mean;
+  const double halo_mean = t[Region::halo_pack].mean + t[Region::halo_unpack].mean + t[Region::halo_mpi].mean +
+                           t[Region::halo_wait].mean;
   const double cells = double(r.nx) * r.ny * r.nz;
   const double mlups = t.elapsed.max > 0 ? cells * double(r.steps) / t.elapsed.max / 1e6 : 0.0;
   std::ostringstream o;

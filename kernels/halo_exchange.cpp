@@ -266,7 +266,7 @@ void HaloExchange::progress() {
 void HaloExchange::finish() {
   if (!in_flight_) throw std::logic_error("HaloExchange::finish without begin");
   {
-    RegionTimers::Scope t(timers_, Region::halo_mpi);
+    RegionTimers::Scope t(timers_, Region::halo_wait);
     MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
   }
   in_flight_ = false;

@@ -9,12 +9,13 @@
 namespace efsi {
 
 // Exclusive regions: a second of wall time lands in one at most.  Communication (the
-// comm figure) is halo_mpi + reduce + transpose_mpi.
+// comm figure) is halo_mpi + halo_wait + reduce + transpose_mpi.
 enum class Region : int {
   compute,
   halo_pack,
   halo_unpack,
-  halo_mpi,
+  halo_mpi,       // blocking exchanges; posting and progressing the async ones
+  halo_wait,      // async exchanges: the final wait, what overlap with computation hides
   reduce,
   sor_sweeps,     // SOR colour updates
   fft_solve,      // the FFT Poisson solve less its transposes: FFTs, Thomas, reordering
@@ -58,7 +59,7 @@ struct Spread {
 struct TimerReport {
   std::array<Spread, kRegionCount> region{};
   Spread elapsed;           // per-rank elapsed time of the measured section
-  Spread comm;              // halo MPI + reductions + transposes, per rank
+  Spread comm;              // halo MPI (posting and waiting) + reductions + transposes, per rank
   double comm_fraction = 0; // mean comm time / slowest rank's elapsed time
   const Spread& operator[](Region r) const { return region[static_cast<int>(r)]; }
 };

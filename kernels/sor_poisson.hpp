@@ -54,6 +54,7 @@ class SorPoisson {
 
  private:
   void update(const Field& rhs, double factor, int colour, const Box& box);
+  void update_columns(const Field& rhs, double factor, int colour, const Box& box);
   void update_interior(const Field& rhs, double factor, int colour);
   void update_boundary(const Field& rhs, double factor, int colour);
 
