@@ -19,6 +19,8 @@ EPS_VALUES = ("1e-3", "1e-4")
 # The paper's five configurations (Tables 2 and 4): ACM with synchronous halos, SOR with
 # either halo mode at both tolerances.
 PAPER_CONFIGS = ("acm-sync", "sor-sync-1e-3", "sor-async-1e-3", "sor-sync-1e-4", "sor-async-1e-4")
+# Every method in every halo mode: the paper's five, ACM async and the FFT reference.
+ALL_CONFIGS = PAPER_CONFIGS + ("acm-async", "fft-sync", "fft-async")
 
 
 class SweepError(ValueError):
@@ -116,13 +118,19 @@ SWEEPS = {
     "strong": _sweep("strong", "strong_scaling", "strong", powers_of_two(1024, 8192), PAPER_CONFIGS,
                      ("--scale", "1"),
                      "paper section 3.3: 2048 x 1024 x 1024 cells, 16384 particles, 1024 to 8192 ranks"),
-    # This machine: the same block per rank on 1 and 2 ranks.
-    "local-weak": _sweep("local-weak", "weak_scaling", "weak", (1, 2), PAPER_CONFIGS, (),
-                         "paper weak block (64^3 per rank) on 1 and 2 ranks"),
+    # This machine: the same block per rank on 1 and 2 ranks, every method and mode.
+    "local-weak": _sweep("local-weak", "weak_scaling", "weak", (1, 2), ALL_CONFIGS, (),
+                         "paper weak block (64^3 per rank) on 1 and 2 ranks, every method and mode"),
     # The strong case divided by 16 per direction (128 x 64 x 64 cells, 4 particles).
-    "local-strong": _sweep("local-strong", "strong_scaling", "strong", (1, 2), PAPER_CONFIGS,
+    "local-strong": _sweep("local-strong", "strong_scaling", "strong", (1, 2), ALL_CONFIGS,
                            ("--scale", "16"),
                            "paper strong case / 16 per direction (128 x 64 x 64) on 1 and 2 ranks"),
+    # The README's main job: both local sweeps with 3 measured steps each (a few minutes).
+    "quick-weak": _sweep("quick-weak", "weak_scaling", "weak", (1, 2), ALL_CONFIGS, ("--steps", "3"),
+                         "as local-weak, 3 measured steps (the README's quick campaign)"),
+    "quick-strong": _sweep("quick-strong", "strong_scaling", "strong", (1, 2), ALL_CONFIGS,
+                           ("--scale", "16", "--steps", "3"),
+                           "as local-strong, 3 measured steps (the README's quick campaign)"),
     # A few seconds in all: the JUBE test and a smoke run of the whole chain.  The block stays
     # the paper's (a smaller one no longer holds the 3.6-long particle lattice cell).
     "mini": _sweep("mini", "weak_scaling", "weak", (1, 2), ("acm-sync", "sor-async-1e-3"),

@@ -20,7 +20,7 @@ std::string timing_report_text(const TimerReport& rep, long steps, double cells)
   for (int r = 0; r < kRegionCount; ++r)
     if (rep.region[r].max > 0) line(std::string(to_string(static_cast<Region>(r))).c_str(), rep.region[r]);
   line("comm", rep.comm);
-  std::snprintf(b, sizeof b, "  comm fraction %.4f (mean halo MPI + reductions + transposes / slowest elapsed)\n",
+  std::snprintf(b, sizeof b, "  comm fraction %.4f (mean halo MPI and wait + reductions + transposes / slowest elapsed)\n",
                 rep.comm_fraction);
   out += b;
   return out;

@@ -126,7 +126,9 @@ def scaling_figure(plt, paper, ours, loaded, kind):
             no_data(ax, f"no valid {'strong' if kind == 'strong' else 'weak'}-scaling rows in the input")
     if kind == "weak":
         axp.set_ylabel("weak-scaling efficiency $T_1/T_M$")
-        axp.set_ylim(0, 1.3)
+        # The panels share y: room for our highest efficiency as well as the paper's.
+        top = max([y for s in ours for y in s.ratio()] + [1.2])
+        axp.set_ylim(0, top * 1.08)
     elif kind == "strong":
         axp.set_ylabel("speedup $T_{M_0}/T_M$ (paper: $M_0$ = 1024)")
         axp.set_yscale("log", base=2)
