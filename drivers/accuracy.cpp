@@ -51,7 +51,8 @@ double centroid_mismatch(const std::vector<SolidRegion>& a, const std::vector<So
 int run(const Options& o) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  if (o.threads < 0) throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
+  if (o.threads < 0)
+    throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
   set_threads(o.threads);
   std::vector<PressureKind> methods;
   std::stringstream ss(o.methods);
@@ -116,8 +117,9 @@ int run(const Options& o) {
                   "%s against %s at t = %.6g: max |phi diff| %.3g; centroids %.3g cells apart at most; relative "
                   "differences K %.3g, I %.3g, eps_s %.3g, eps_f %.3g\n",
                   to_string(methods[0]), to_string(methods[r]), da.time, phi_diff,
-                  centroid_mismatch(regions[0], regions[r], c.domain) / c.domain.spacing(X), rel(da.kinetic, db.kinetic),
-                  rel(da.input, db.input), rel(da.eps_solid, db.eps_solid), rel(da.eps_fluid, db.eps_fluid));
+                  centroid_mismatch(regions[0], regions[r], c.domain) / c.domain.spacing(X),
+                  rel(da.kinetic, db.kinetic), rel(da.input, db.input), rel(da.eps_solid, db.eps_solid),
+                  rel(da.eps_fluid, db.eps_fluid));
     text += b2;
   }
   bool valid = true;
@@ -133,11 +135,12 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"The paper's accuracy comparison (section 3.1; DESIGN.md section 5): 16 particles in 7.2^3 on 128^3 "
-               "cells, G = 50, dt = 5e-4 to t = 20, with ACM and the FFT reference.\nWrites into --out: "
-               "series-<method>.csv (energy budget), centroids-<method>.csv, phi-<method>.vti (ParaView) and "
-               "comparison.txt. Smaller and shorter runs: --cells, --t-end.",
-               "accuracy"};
+  CLI::App app{
+      "The paper's accuracy comparison (section 3.1; DESIGN.md section 5): 16 particles in 7.2^3 on 128^3 "
+      "cells, G = 50, dt = 5e-4 to t = 20, with ACM and the FFT reference.\nWrites into --out: "
+      "series-<method>.csv (energy budget), centroids-<method>.csv, phi-<method>.vti (ParaView) and "
+      "comparison.txt. Smaller and shorter runs: --cells, --t-end.",
+      "accuracy"};
   app.add_option("--cells", o.cells, "cells along each axis")->capture_default_str();
   app.add_option("--length", o.length, "box length along each axis")->capture_default_str();
   app.add_option("--particles", o.particles, "first K lattice sites (default: all, 16 in 7.2^3)");

@@ -109,8 +109,10 @@ void write_file(const std::string& path, const std::string& text) {
 }
 
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
-  for (const auto& [path, opt] : {std::pair{req.profile, "--profile"}, {req.series, "--series"},
-                                  {req.centroids, "--centroids"}, {req.csv, "--csv"}})
+  for (const auto& [path, opt] : {std::pair{req.profile, "--profile"},
+                                  {req.series, "--series"},
+                                  {req.centroids, "--centroids"},
+                                  {req.csv, "--csv"}})
     check_writable(path, opt);
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
@@ -125,13 +127,16 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
                 req.program.c_str(), to_string(c.method), to_string(c.solver.comm), ranks,
                 to_string(dec.dims()).c_str(), to_string(dec.local()).c_str(), max_threads(), layout.cores.c_str());
     if (layout.oversubscribed)
-      std::printf("warning: ranks x threads exceed the cores of a node: timings not representative, the row is "
-                  "marked oversubscribed and not valid\n");
+      std::printf(
+          "warning: ranks x threads exceed the cores of a node: timings not representative, the row is "
+          "marked oversubscribed and not valid\n");
     std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
                 particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured);
     if (c.method == PressureKind::sor) std::printf("  N_S = %d SOR sweeps per step", c.sor_sweeps);
-    if (c.solver.cn_sweeps > 0) std::printf("%sN_C = %d Crank-Nicolson sweeps per step", c.method == PressureKind::sor ? ", " : "  ", c.solver.cn_sweeps);
+    if (c.solver.cn_sweeps > 0)
+      std::printf("%sN_C = %d Crank-Nicolson sweeps per step", c.method == PressureKind::sor ? ", " : "  ",
+                  c.solver.cn_sweeps);
     if (c.method == PressureKind::sor || c.solver.cn_sweeps > 0) std::printf("\n");
     std::fflush(stdout);
   }
@@ -191,9 +196,10 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const TimerReport rep = summarize(solver.timers(), elapsed, dec.comm());
   if (is_root()) {
     std::fputs(timing_report_text(rep, measured, double(product(c.domain.cells))).c_str(), stdout);
-    std::printf("validation: div_max*dx/U_max = %.3g (limit 1e-2), energy budget residual %.3g of its largest "
-                "term (limit 0.02): %s\n",
-                v.div_ratio, v.budget, v.valid ? "SUCCESSFUL" : "FAILED");
+    std::printf(
+        "validation: div_max*dx/U_max = %.3g (limit 1e-2), energy budget residual %.3g of its largest "
+        "term (limit 0.02): %s\n",
+        v.div_ratio, v.budget, v.valid ? "SUCCESSFUL" : "FAILED");
   }
 
   const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());

@@ -24,17 +24,22 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
 
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating) {
   c.method = parse_method(o.method);
-  if (o.comm == "sync") c.solver.comm = CommMode::sync;
-  else if (o.comm == "async") c.solver.comm = CommMode::async;
-  else throw ConfigError("unknown --comm '" + o.comm + "': expected sync or async");
+  if (o.comm == "sync")
+    c.solver.comm = CommMode::sync;
+  else if (o.comm == "async")
+    c.solver.comm = CommMode::async;
+  else
+    throw ConfigError("unknown --comm '" + o.comm + "': expected sync or async");
   if (c.method != PressureKind::sor) {
     if (o.eps) throw ConfigError("--eps applies to --method sor only");
     if (o.ns) throw ConfigError("--ns applies to --method sor only");
   }
-  if (o.eps && !(*o.eps > 0 && *o.eps < 1)) throw ConfigError("--eps " + std::to_string(*o.eps) + " must lie in (0, 1)");
+  if (o.eps && !(*o.eps > 0 && *o.eps < 1))
+    throw ConfigError("--eps " + std::to_string(*o.eps) + " must lie in (0, 1)");
   if (o.ns && *o.ns < 1) throw ConfigError("--ns " + std::to_string(*o.ns) + " must be at least 1");
   if (o.nc && *o.nc < 0) throw ConfigError("--nc " + std::to_string(*o.nc) + " must be 0 (explicit stress) or more");
-  if (o.threads < 0) throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
+  if (o.threads < 0)
+    throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
   set_threads(o.threads);
   // The paper's SOR path treats the stress by Crank-Nicolson with N_C = 20; ACM and the
   // FFT reference are explicit unless --nc asks otherwise.

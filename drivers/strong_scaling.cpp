@@ -54,8 +54,9 @@ int run(const Options& o) {
   ChannelCase c;
   const long steps = apply_scaling_defaults(o.m, c, o.steps);
   if (o.scale < 1 || kLatticeCellsAcross % o.scale != 0)
-    throw ConfigError("--scale " + std::to_string(o.scale) + " does not divide the case into whole 3.6 lattice cells: " +
-                      "it must divide " + std::to_string(kLatticeCellsAcross) + " (1, 2, 4, 8 or 16)");
+    throw ConfigError("--scale " + std::to_string(o.scale) +
+                      " does not divide the case into whole 3.6 lattice cells: " + "it must divide " +
+                      std::to_string(kLatticeCellsAcross) + " (1, 2, 4, 8 or 16)");
   for (int a = 0; a < 3; ++a) {
     c.domain.cells[a] = kFullCells[a] / o.scale;
     c.domain.length[a] = c.domain.cells[a] * (3.6 / 64);  // the paper's spacing
@@ -77,12 +78,13 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"The paper's strong-scaling case (DESIGN.md sections 5 and 8): 2048 x 1024 x 1024 cells, "
-               "115.2 x 57.6 x 57.6, 16384 particles; --scale S divides every length and count by S per "
-               "direction (particles at the same density).\nSteps as in weak scaling: ACM 50 of 1.25e-5; SOR and "
-               "FFT 10 of 6.25e-5. --dry-run --ranks N prints the decomposition, local block and memory per rank "
-               "for N ranks and exits without allocating the case.",
-               "strong_scaling"};
+  CLI::App app{
+      "The paper's strong-scaling case (DESIGN.md sections 5 and 8): 2048 x 1024 x 1024 cells, "
+      "115.2 x 57.6 x 57.6, 16384 particles; --scale S divides every length and count by S per "
+      "direction (particles at the same density).\nSteps as in weak scaling: ACM 50 of 1.25e-5; SOR and "
+      "FFT 10 of 6.25e-5. --dry-run --ranks N prints the decomposition, local block and memory per rank "
+      "for N ranks and exits without allocating the case.",
+      "strong_scaling"};
   app.add_option("--scale", o.scale, "divide the case by S per direction (1, 2, 4, 8 or 16)")->capture_default_str();
   add_method_options(app, o.m, "1.25e-5 for acm, 6.25e-5 otherwise");
   app.add_option("--steps", o.steps, "measured steps (default: 50 for acm, 10 otherwise)");

@@ -53,11 +53,12 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"The paper's weak-scaling case (DESIGN.md sections 5 and 8): a --local^3 block with "
-               "--particles-per-rank particles per rank, the global box the rank grid times the block.\n"
-               "Defaults are the paper's: ACM 50 steps of 1.25e-5; SOR and FFT 10 steps of 6.25e-5, SOR with N_S "
-               "from the calibration for --eps and N_C = 20. One warm-up step precedes the measured ones.",
-               "weak_scaling"};
+  CLI::App app{
+      "The paper's weak-scaling case (DESIGN.md sections 5 and 8): a --local^3 block with "
+      "--particles-per-rank particles per rank, the global box the rank grid times the block.\n"
+      "Defaults are the paper's: ACM 50 steps of 1.25e-5; SOR and FFT 10 steps of 6.25e-5, SOR with N_S "
+      "from the calibration for --eps and N_C = 20. One warm-up step precedes the measured ones.",
+      "weak_scaling"};
   app.add_option("--local", o.local, "cells per rank along each axis")->capture_default_str();
   app.add_option("--particles-per-rank", o.particles_per_rank,
                  "particles per rank: the first K x ranks sites of the lattice")

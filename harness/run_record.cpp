@@ -60,32 +60,63 @@ std::string num(double v) {
 }  // namespace
 
 const std::vector<std::string>& csv_columns() {
-  static const std::vector<std::string> cols = {
-      "experiment", "method",  "comm",        "eps",         "ranks",     "threads",   "px",
-      "py",         "pz",      "nx",          "ny",          "nz",        "particles", "steps",
-      "dt",         "ns_per_step", "nc_per_step", "elapsed_s", "compute_s", "halo_s",  "reduce_s",
-      "comm_s",     "comm_s_max", "comm_fraction", "mlups",  "div_rms",   "valid",     "host",
-      "mpi",        "compiler", "git_sha",    "timestamp",   "oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores"};
+  static const std::vector<std::string> cols = {"experiment",
+                                                "method",
+                                                "comm",
+                                                "eps",
+                                                "ranks",
+                                                "threads",
+                                                "px",
+                                                "py",
+                                                "pz",
+                                                "nx",
+                                                "ny",
+                                                "nz",
+                                                "particles",
+                                                "steps",
+                                                "dt",
+                                                "ns_per_step",
+                                                "nc_per_step",
+                                                "elapsed_s",
+                                                "compute_s",
+                                                "halo_s",
+                                                "reduce_s",
+                                                "comm_s",
+                                                "comm_s_max",
+                                                "comm_fraction",
+                                                "mlups",
+                                                "div_rms",
+                                                "valid",
+                                                "host",
+                                                "mpi",
+                                                "compiler",
+                                                "git_sha",
+                                                "timestamp",
+                                                "oversubscribed",
+                                                "omp_num_threads",
+                                                "omp_places",
+                                                "omp_proc_bind",
+                                                "cores"};
   return cols;
 }
 
 std::string csv_row(const RunRecord& r) {
   const TimerReport& t = r.timing;
-  const double halo_mean = t[Region::halo_pack].mean + t[Region::halo_unpack].mean + t[Region::halo_mpi].mean +
-                           t[Region::halo_wait].mean;
+  const double halo_mean =
+      t[Region::halo_pack].mean + t[Region::halo_unpack].mean + t[Region::halo_mpi].mean + t[Region::halo_wait].mean;
   const double cells = double(r.nx) * r.ny * r.nz;
   const double mlups = t.elapsed.max > 0 ? cells * double(r.steps) / t.elapsed.max / 1e6 : 0.0;
   std::ostringstream o;
-  o << clean(r.experiment) << ',' << clean(r.method) << ',' << clean(r.comm) << ',' << clean(r.eps) << ','
-    << r.ranks << ',' << r.threads << ',' << r.px << ',' << r.py << ',' << r.pz << ',' << r.nx << ',' << r.ny << ','
-    << r.nz << ',' << r.particles << ',' << r.steps << ',' << num(r.dt) << ',' << clean(r.ns_per_step) << ','
-    << clean(r.nc_per_step) << ',' << num(t.elapsed.max) << ',' << num(t[Region::compute].mean) << ','
-    << num(halo_mean) << ',' << num(t[Region::reduce].mean) << ',' << num(t.comm.mean) << ',' << num(t.comm.max)
-    << ',' << num(t.comm_fraction) << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid && !r.layout.oversubscribed ? 1 : 0) << ','
+  o << clean(r.experiment) << ',' << clean(r.method) << ',' << clean(r.comm) << ',' << clean(r.eps) << ',' << r.ranks
+    << ',' << r.threads << ',' << r.px << ',' << r.py << ',' << r.pz << ',' << r.nx << ',' << r.ny << ',' << r.nz << ','
+    << r.particles << ',' << r.steps << ',' << num(r.dt) << ',' << clean(r.ns_per_step) << ',' << clean(r.nc_per_step)
+    << ',' << num(t.elapsed.max) << ',' << num(t[Region::compute].mean) << ',' << num(halo_mean) << ','
+    << num(t[Region::reduce].mean) << ',' << num(t.comm.mean) << ',' << num(t.comm.max) << ',' << num(t.comm_fraction)
+    << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid && !r.layout.oversubscribed ? 1 : 0) << ','
     << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
     << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
-    << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ','
-    << clean(r.layout.omp_proc_bind) << ',' << clean(r.layout.cores) << '\n';
+    << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
+    << ',' << clean(r.layout.cores) << '\n';
   return o.str();
 }
 
@@ -101,7 +132,7 @@ void append_csv(const std::string& path, const RunRecord& r) {
     ::close(fd);
     throw std::runtime_error("cannot lock CSV file " + path + ": " + std::strerror(errno));
   }
-  struct stat st{};
+  struct stat st {};
   ::fstat(fd, &st);
   const std::string out = st.st_size == 0 ? header + row : row;
   // One write of the whole text while holding the lock.

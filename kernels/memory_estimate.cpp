@@ -26,7 +26,8 @@ MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local) {
 
   MemoryEstimate m;
   m.fields = static_cast<int>(recorder.specs().size());
-  for (const FieldSpec& f : recorder.specs()) m.field_bytes += Field::allocation_doubles(local, f.halo) * sizeof(double);
+  for (const FieldSpec& f : recorder.specs())
+    m.field_bytes += Field::allocation_doubles(local, f.halo) * sizeof(double);
   if (c.method == PressureKind::fft)
     m.solver_bytes = static_cast<std::size_t>(kFftWordsPerCell * double(product(local)) * 8.0);
   return m;
