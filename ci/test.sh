@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, runs every test
-# (MPI tests on 1 to 8 ranks, oversubscribed on small machines).
+# (MPI tests on 1 to 8 ranks, oversubscribed on small machines), then, for the release build,
+# the micro-benchmark gate (harness/microbench/README.md: bench_kernels on 2 ranks against
+# the committed baseline, about half a minute).
 #   ci/test.sh            release build
 #   ci/test.sh debug      AddressSanitizer + UndefinedBehaviorSanitizer build
 set -euo pipefail
@@ -9,3 +11,4 @@ preset="${1:-release}"
 bash ci/install-deps.sh
 bash ci/build.sh "$preset"
 ctest --preset "$preset"
+if [ "$preset" = release ]; then bash ci/microbench_gate.sh build; fi

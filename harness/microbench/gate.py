@@ -4,8 +4,11 @@ committed baseline (harness/microbench/README.md).
 
 ratio = the kernel's least CPU time per call over all iterations and repetitions / the
 STREAM-triad probe's least CPU time over all its passes in the same run (bench_json.summary).
-CPU time, because a rank preempted by another job loses wall time but not CPU time; least,
-because what load adds only ever slows a sample down.
+The kernel's CPU time is its CPU time outside MPI's blocking calls (for the halo exchange
+and the global reduction, whose work is communication: the CPU time of the rank that used
+least; kernel_clock.hpp), and these two take their ratio over an in-run MPI message probe
+(one message of the same bytes, bench_kernels.cpp) instead of the triad.  CPU time, because a rank preempted by another job loses wall time but not CPU time;
+least, because what load adds only ever slows a sample down.
 
   gate.py RUN.json [RERUN.json ...] --baseline BASE.json [--factor 1.5] [--failed-list F]
       prints a table of every ratio and exits 1 when a ratio exceeds factor x its baseline
@@ -75,14 +78,14 @@ def gate(paths, baseline_path, factor, failed_list=None):
             failed.append(name)
             continue
         if b is None:
-            print(f"| {name:<{w}} | {row['cpu_min_us']:10.4g} | {row['ratio']:9.4g} | {'-':>9} | {'-':>10} | new    |")
+            print(f"| {name:<{w}} | {row['gate_us']:10.4g} | {row['ratio']:9.4g} | {'-':>9} | {'-':>10} | new    |")
             continue
         rel = row["ratio"] / b
         worst = max(worst, rel)
         status = "FAIL" if rel > factor else "ok"
         if rel > factor:
             failed.append(name)
-        print(f"| {name:<{w}} | {row['cpu_min_us']:10.4g} | {row['ratio']:9.4g} | {b:9.4g} | {rel:10.3f} | {status:<6} |")
+        print(f"| {name:<{w}} | {row['gate_us']:10.4g} | {row['ratio']:9.4g} | {b:9.4g} | {rel:10.3f} | {status:<6} |")
     print(f"worst ratio/baseline: {worst:.3f}")
     if failed_list:
         with open(failed_list, "w") as f:

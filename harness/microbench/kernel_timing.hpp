@@ -2,8 +2,8 @@
 // The timing loop and the roofline counters every bench_kernels benchmark shares.
 //
 // Each iteration runs `calls` calls of the kernel on every rank at once and takes the
-// slowest rank's time (max_over_ranks): the manual time of the iteration, the same on every
-// rank, so Google Benchmark picks the same iteration count everywhere (Google Benchmark's
+// slowest rank's wall time (section_times): the manual time of the iteration, the same on
+// every rank, so Google Benchmark picks the same iteration count everywhere (Google Benchmark's
 // own time column is per iteration; the counters below are per call).  After the loop, and
 // outside the manual time, the STREAM-triad probe runs kProbePasses times.
 //
@@ -11,15 +11,22 @@
 //   min_us, median_us   fastest and median iteration, wall time (the time Google Benchmark
 //                       reports is the mean, which one preempted iteration on a shared machine
 //                       drags)
-//   cpu_min_us          fastest iteration in CPU time (kernel_clock.hpp)
+//   cpu_min_us          least CPU time of an iteration (kernel_clock.hpp: the rank that used
+//                       least)
+//   work_min_us         least CPU time outside MPI's blocking calls of an iteration
+//                       (kernel_clock.hpp: the slowest rank's); with EFSI_MPI_WAIT_CLOCK
+//                       unset, no call is counted and this is the CPU time of the slowest
+//                       rank (mpi_wait_clock.hpp)
+//   gate_us             the gate's figure: work_min_us, or cpu_min_us for a communication
+//                       kernel (KernelCost::communication)
 //   bytes_per_cell, flops_per_cell   the kernel's counted traffic and work (see the comment
 //                       beside each kernel), per owned cell of one rank
 //   GBps, GFLOPs        counted bytes and flops of one rank / median time (1e9 per second)
-//   triad_us, triad_cpu_us, triad_GBps  the probe's fastest pass (wall, CPU) and one rank's
-//                       triad bandwidth from the wall time
+//   triad_us, triad_cpu_us, triad_GBps  the probe's fastest pass (wall time; least CPU
+//                       time) and one rank's triad bandwidth from the wall time
 //   roofline_fraction   GBps / triad_GBps: the share of the measured memory bandwidth the
 //                       kernel reaches (above 1 for kernels whose data stay in cache)
-//   ratio               cpu_min_us / triad_cpu_us: the kernel's time in units of the probe's
+//   ratio               gate_us / triad_cpu_us: the kernel's time in units of the probe's
 //                       time, machine-independent to first order; the CI gate compares it
 //                       (gate.py takes the probe's least CPU time over the whole run)
 //   wall_ratio          min_us / triad_us, the same in wall time
@@ -29,6 +36,7 @@
 #include <vector>
 
 #include "kernel_clock.hpp"
+#include "mpi_wait_clock.hpp"
 
 namespace efsi::bench {
 
@@ -40,6 +48,8 @@ struct KernelCost {
   double bytes_per_cell = 0;  // bytes one unit must move, per cell
   double flops_per_cell = 0;  // flops one unit does, per cell
   int units = 1;              // units of work per call (sweeps for SOR): times are per unit
+  bool communication = false; // the work is communication: the gate uses the CPU time, not
+                              // the work (kernel_clock.hpp)
 };
 
 // Sets the counters above from the per-call times of the iterations.
@@ -48,14 +58,16 @@ void report_kernel(benchmark::State& state, std::vector<Times>& times, const Ker
 template <class Body>
 void time_kernel(benchmark::State& state, const KernelCost& cost, int calls, Body&& body) {
   std::vector<Times> times;
+  set_mpi_wait_clock(mpi_wait_clock_requested() && !cost.communication);
   for (auto _ : state) {
-    const Times t = max_times_over_ranks(MPI_COMM_WORLD, [&] {
+    const Times t = section_times(MPI_COMM_WORLD, [&] {
       for (int c = 0; c < calls; ++c) body();
     });
     state.SetIterationTime(t.wall);
     const double per = static_cast<double>(calls) * cost.units;
-    times.push_back({t.wall / per, t.cpu / per});
+    times.push_back({t.wall / per, t.cpu / per, t.work / per});
   }
+  set_mpi_wait_clock(false);
   report_kernel(state, times, cost);
 }
 

@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <limits>
 #include <new>
+#include <vector>
 
 
 namespace efsi::bench {
@@ -38,7 +39,7 @@ Times TriadProbe::run(MPI_Comm comm) {
   const double *b = b_.get(), *c = c_.get();
   const long n = static_cast<long>(n_);
   const double s = 3.0;
-  return max_times_over_ranks(comm, [&] {
+  return section_times(comm, [&] {
 #pragma omp parallel for simd schedule(static)
     for (long i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
     benchmark::ClobberMemory();
@@ -46,11 +47,44 @@ Times TriadProbe::run(MPI_Comm comm) {
 }
 
 Times TriadProbe::best(MPI_Comm comm, int passes) {
-  Times t{std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Times t{inf, inf, inf};
   for (int p = 0; p < passes; ++p) {
     const Times r = run(comm);
     t.wall = std::min(t.wall, r.wall);
     t.cpu = std::min(t.cpu, r.cpu);
+    t.work = std::min(t.work, r.work);
+  }
+  return t;
+}
+
+Times message_probe(MPI_Comm comm, int passes, std::size_t doubles, int round_trips) {
+  int rank = 0, size = 1;
+  MPI_Comm_rank(comm, &rank);
+  MPI_Comm_size(comm, &size);
+  const int peer = (rank % 2 == 0) ? rank + 1 : rank - 1;
+  const bool active = peer < size;
+  std::vector<double> message(std::max<std::size_t>(doubles, 1), 1.0);
+  const int count = static_cast<int>(message.size());
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Times t{inf, inf, inf};
+  const double per = 2.0 * round_trips;
+  for (int p = 0; p < passes; ++p) {
+    const Times r = section_times(comm, [&] {
+      if (!active) return;
+      for (int n = 0; n < round_trips; ++n) {
+        if (rank % 2 == 0) {
+          MPI_Send(message.data(), count, MPI_DOUBLE, peer, 0, comm);
+          MPI_Recv(message.data(), count, MPI_DOUBLE, peer, 0, comm, MPI_STATUS_IGNORE);
+        } else {
+          MPI_Recv(message.data(), count, MPI_DOUBLE, peer, 0, comm, MPI_STATUS_IGNORE);
+          MPI_Send(message.data(), count, MPI_DOUBLE, peer, 0, comm);
+        }
+      }
+    });
+    t.wall = std::min(t.wall, r.wall / per);
+    t.cpu = std::min(t.cpu, r.cpu / per);
+    t.work = std::min(t.work, r.work / per);
   }
   return t;
 }

@@ -22,7 +22,7 @@ class TriadProbe {
   TriadProbe(const TriadProbe&) = delete;
   TriadProbe& operator=(const TriadProbe&) = delete;
 
-  // One triad pass on every rank of `comm`; returns the slowest rank's wall and CPU times
+  // One triad pass on every rank of `comm`; returns section_times' wall and CPU times
   // (collective).
   Times run(MPI_Comm comm);
   // The least wall and the least CPU time of `passes` passes (collective): the probe's times
@@ -40,5 +40,14 @@ class TriadProbe {
 
 // The process's probe (made on first use, first-touched by the threads that use it).
 TriadProbe& triad_probe();
+
+// The probe for the communication kernels (halo exchange, global reduction), whose time a
+// memory-bandwidth probe says little about: ranks 2r and 2r + 1 bounce one message of
+// `doubles` doubles `round_trips` times (a last odd rank idles); returns the least over
+// `passes` passes of section_times' wall and CPU time per one-way message (collective).
+// It moves with what sets those kernels' time on a given machine (how far apart the cores
+// are, the MPI shared-memory path), so their time over it is the machine-independent figure:
+// one double for the reduction (the latency), an exchange's bytes for the halo exchange.
+Times message_probe(MPI_Comm comm, int passes, std::size_t doubles, int round_trips);
 
 }  // namespace efsi::bench
