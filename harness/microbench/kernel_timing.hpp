@@ -28,7 +28,9 @@
 //                       kernel reaches (above 1 for kernels whose data stay in cache)
 //   ratio               gate_us / triad_cpu_us: the kernel's time in units of the probe's
 //                       time, machine-independent to first order; the CI gate compares it
-//                       (gate.py takes the probe's least CPU time over the whole run)
+//                       (gate.py takes the probe's least CPU time over the whole run); the
+//                       communication kernels replace it by gate_us over an MPI message
+//                       probe (bench_kernels.cpp, set_comm_probe)
 //   wall_ratio          min_us / triad_us, the same in wall time
 #include <benchmark/benchmark.h>
 #include <mpi.h>
