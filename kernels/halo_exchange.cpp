@@ -94,7 +94,10 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
         }
       };
       add_runs(send_box(f, s), send_runs_, send_total);
+      const std::size_t first = recv_runs_.size();
       add_runs(recv_box(f, s), recv_runs_, recv_total);
+      for (std::size_t r = first; r < recv_runs_.size(); ++r)
+        (peer_[d] == self_ ? self_recv_runs_ : remote_recv_runs_).push_back(r);
     }
     send_count_[d] = send_total - send_off_[d];
     recv_count_[d] = recv_total - recv_off_[d];
@@ -176,16 +179,26 @@ void HaloExchange::copy_self() {
                   sizeof(double) * recv_count_[d]);
 }
 
-void HaloExchange::unpack_and_walls() {
+void HaloExchange::unpack_self() {
+  RegionTimers::Scope t(timers_, Region::halo_unpack);
+  for (std::size_t r : self_recv_runs_) {
+    const Run& run = recv_runs_[r];
+    copy_block<false>(fields_[run.field]->data() + run.index, recv_buf_.data() + run.buf, run.len, run.rows,
+                      run.stride);
+  }
+}
+
+void HaloExchange::unpack_and_walls(bool self_done) {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
   double* buf = recv_buf_.data();
-  const std::size_t nr = recv_runs_.size(), nz = wall_zero_.size(), nm = wall_mirror_.size();
+  const std::size_t nr = self_done ? remote_recv_runs_.size() : recv_runs_.size();
+  const std::size_t nz = wall_zero_.size(), nm = wall_mirror_.size();
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (std::size_t r = 0; r < nr; ++r) {
-      const Run& run = recv_runs_[r];
+      const Run& run = recv_runs_[self_done ? remote_recv_runs_[r] : r];
       copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
     // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
@@ -247,6 +260,7 @@ void HaloExchange::begin() {
     pack();
     copy_self();
   }
+  unpack_self();
   RegionTimers::Scope t(timers_, Region::halo_mpi);
   for (int d = 0; d < kDirs; ++d) {
     if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
@@ -270,7 +284,7 @@ void HaloExchange::finish() {
     MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
   }
   in_flight_ = false;
-  unpack_and_walls();
+  unpack_and_walls(true);
 }
 
 }  // namespace efsi

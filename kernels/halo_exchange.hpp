@@ -38,7 +38,9 @@ class HaloExchange {
   void exchange();
   // Async form: begin() packs and posts non-blocking sends and receives; the caller
   // may then compute on anything but the ghosts; finish() waits, unpacks, applies walls.
-  // Both forms leave bitwise the same ghosts.
+  // Both forms leave bitwise the same ghosts. Ghosts whose neighbour is this rank itself
+  // (a periodic wrap, no message) are already current when begin() returns, so work next
+  // to such faces need not wait for finish() (the SOR's async interior uses this).
   void begin();
   // Between begin() and finish(): lets MPI move the messages on (MPI_Testall). Without it a
   // large message (rendezvous protocol) waits for finish() to start, and nothing overlaps.
@@ -70,7 +72,9 @@ class HaloExchange {
   void build_walls(const CartDecomposition& decomp);
   void pack();
   void copy_self();
-  void unpack_and_walls();
+  void unpack_self();
+  // All received ghosts, or (after begin() unpacked them) all but the self-neighbour ones.
+  void unpack_and_walls(bool self_done = false);
 
   std::vector<Field*> fields_;
   Reach reach_;
@@ -80,6 +84,7 @@ class HaloExchange {
   int peer_[kDirs];
   std::size_t send_off_[kDirs]{}, send_count_[kDirs]{}, recv_off_[kDirs]{}, recv_count_[kDirs]{};
   std::vector<Run> send_runs_, recv_runs_;
+  std::vector<std::size_t> self_recv_runs_, remote_recv_runs_;  // indices into recv_runs_
   std::vector<WallRun> wall_zero_, wall_mirror_;
   std::vector<double> send_buf_, recv_buf_;
   std::vector<MPI_Request> requests_;

@@ -333,10 +333,11 @@ TEST(SorPoisson, Info64CubedSweepCountsAndTiming) {
       const double sweeps = kReps * kPer;
       if (rank == 0)
         std::printf("[timing] grid %s on %d rank(s) %s: %.3f ms/sweep median (min %.3f, max %.3f); rank 0 per "
-                    "sweep: sor_sweeps %.3f ms, halo_mpi %.3f, pack %.3f, unpack %.3f\n",
+                    "sweep: sor_sweeps %.3f ms, halo_mpi %.3f, halo_wait %.3f, pack %.3f, unpack %.3f\n",
                     to_string(gt).c_str(), p, mode == SorComm::sync ? "sync " : "async", ms[kReps / 2], ms.front(),
                     ms.back(), 1e3 * timers.get(Region::sor_sweeps) / sweeps,
-                    1e3 * timers.get(Region::halo_mpi) / sweeps, 1e3 * timers.get(Region::halo_pack) / sweeps,
+                    1e3 * timers.get(Region::halo_mpi) / sweeps, 1e3 * timers.get(Region::halo_wait) / sweeps,
+                    1e3 * timers.get(Region::halo_pack) / sweeps,
                     1e3 * timers.get(Region::halo_unpack) / sweeps);
     }
   }
