@@ -27,11 +27,11 @@ def runs_by_benchmark(doc):
     return out
 
 
-def probe_us(doc, key="triad_cpu_us"):
-    """The triad probe's least CPU time (or, key="triad_us", wall time) over the whole run
-    (us): every benchmark runs it kProbePasses times after its loop, so this is the minimum
-    of many passes spread over the run, the least disturbed measure of the memory bandwidth
-    the run had."""
+def probe_us(doc, key="cache_triad_cpu_us"):
+    """A probe's least time over the whole run (us): the cache-resident triad's CPU time (the
+    gate's unit), or key="triad_us" for the memory triad's wall time.  Every benchmark runs
+    the probes kProbePasses times after its loop, so this is the minimum of many passes
+    spread over the run, the least disturbed measure the run had."""
     rows = [r for rs in runs_by_benchmark(doc).values() for r in rs]
     return min(r[key] for r in rows if r.get(key, 0) > 0)
 
@@ -41,9 +41,9 @@ def summary(doc):
     CPU time, and the gate's CPU figure, kernel_timing.hpp), median_us (median over
     repetitions of each repetition's median iteration), and the median over repetitions of
     the counted GBps, GFLOPs and roofline_fraction; ratio = gate_us / the run's probe_us, or,
-    for a row with a comm_probe_cpu_us counter (the communication kernels: halo exchange,
-    global reduction), gate_us / the least comm_probe_cpu_us of that benchmark's
-    repetitions (the MPI message probe measured right after it)."""
+    for a row with a comm_probe_cpu_us counter (the global reduction), gate_us / the least
+    comm_probe_cpu_us of that benchmark's repetitions (the MPI latency probe measured right
+    after it)."""
     probe = probe_us(doc)
     out = {}
     for name, rows in runs_by_benchmark(doc).items():

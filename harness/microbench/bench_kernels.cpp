@@ -15,7 +15,7 @@
 //                             neighbours), as each step does it
 //   BM_GlobalReduction        the blow-up check's MPI_Allreduce (max of 2 doubles), 100 per
 //                             iteration; independent of n, so registered once
-// (the ratio of the two communication kernels is over an MPI message probe, not the triad)
+// (the reduction's ratio is over an MPI latency probe, the others' over the cache triad)
 //   BM_Step/<method>/<mode>/n one whole step of each method (channel_setup.hpp's cases)
 //
 //   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_kernels
@@ -55,7 +55,6 @@ using bench::StepCase;
 constexpr int kWarmSteps = 3;  // steps from the laminar flow before the kernels are timed
 constexpr int kSorSweeps = 10;  // sweeps per call in BM_SorSweep
 constexpr int kReductions = 100;  // MPI_Allreduce calls per iteration in BM_GlobalReduction
-constexpr int kHaloProbeTrips = 4;  // round trips of the message probe in BM_HaloExchange
 const std::vector<int> kSizes{32, 64};
 
 // Halo traffic per exchange and per owned cell of one rank: pack reads the sent points and
@@ -198,18 +197,17 @@ void BM_FftSolve(benchmark::State& state, int n) {
   state.counters["mpi_bytes"] = static_cast<double>(fft.doubles_sent()) * sizeof(double);
 }
 
-// The communication kernels' ratio is taken over stream_probe.hpp's message probe (run as
-// many times as the triad probe) instead of the triad: counters comm_probe_us and
-// comm_probe_cpu_us (one-way time of the probe's message), and ratio = gate_us /
-// comm_probe_cpu_us, which is what gate.py uses for a row with comm_probe_cpu_us.
+// The global reduction's ratio is taken over stream_probe.hpp's message probe (one double,
+// run as many times as the triad probe) instead of the triad: counters comm_probe_us and
+// comm_probe_cpu_us (one-way time), and ratio = gate_us / comm_probe_cpu_us, which is what
+// gate.py uses for a row with comm_probe_cpu_us.
 void set_comm_probe(benchmark::State& state, const bench::Times& probe) {
   state.counters["comm_probe_us"] = probe.wall * 1e6;
   state.counters["comm_probe_cpu_us"] = probe.cpu * 1e6;
   if (probe.cpu > 0) state.counters["ratio"] = state.counters["gate_us"] / (probe.cpu * 1e6);
 }
 
-// halo_bytes_per_cell: 4 x MPI bytes + 2 x local bytes per exchange; no flops.  Ratio over
-// the message probe with one message of the bytes one rank sends per exchange.
+// halo_bytes_per_cell: 4 x MPI bytes + 2 x local bytes per exchange; no flops.
 void BM_HaloExchange(benchmark::State& state, int n, CommMode mode) {
   KernelSetup& k = kernel_setup(n);
   HaloExchange halo(*k.ch.dec, k.state().all(), Reach::full, &k.timers);
@@ -226,8 +224,6 @@ void BM_HaloExchange(benchmark::State& state, int n, CommMode mode) {
   }
   state.counters["mpi_bytes"] = static_cast<double>(halo.bytes_sent_mpi());
   state.counters["local_bytes"] = static_cast<double>(halo.bytes_copied_local());
-  set_comm_probe(state, bench::message_probe(MPI_COMM_WORLD, bench::kProbePasses,
-                                             halo.bytes_sent_mpi() / sizeof(double), kHaloProbeTrips));
 }
 
 // FsiSolver::check_blow_up's MPI_Allreduce of 2 doubles (MPI_MAX): 16 B per call on each

@@ -3,11 +3,12 @@
 committed baseline (harness/microbench/README.md).
 
 ratio = the kernel's least CPU time per call over all iterations and repetitions / the
-STREAM-triad probe's least CPU time over all its passes in the same run (bench_json.summary).
+cache-resident STREAM-triad probe's least CPU time over all its passes in the same run
+(bench_json.summary, stream_probe.hpp).
 The kernel's CPU time is its CPU time outside MPI's blocking calls (for the halo exchange
 and the global reduction, whose work is communication: the CPU time of the rank that used
-least; kernel_clock.hpp), and these two take their ratio over an in-run MPI message probe
-(one message of the same bytes, bench_kernels.cpp) instead of the triad.  CPU time, because a rank preempted by another job loses wall time but not CPU time;
+least; kernel_clock.hpp), and the reduction takes its ratio over an in-run MPI latency probe
+instead of the triad.  CPU time, because a rank preempted by another job loses wall time but not CPU time;
 least, because what load adds only ever slows a sample down.
 
   gate.py RUN.json [RERUN.json ...] --baseline BASE.json [--factor 1.5] [--failed-list F]
@@ -66,7 +67,7 @@ def gate(paths, baseline_path, factor, failed_list=None):
     names = list(ratios) + [n for n in s if n not in ratios]
     w = max(len(n) for n in names)
     print(f"micro-benchmark gate: {' + '.join(paths)} vs {baseline_path} (fail above {factor} x baseline)")
-    print(f"triad probe (CPU time): {probe:.1f} us in the first run, {base.get('probe_us', 0):.1f} us in the baseline "
+    print(f"cache-triad probe (CPU time): {probe:.1f} us in the first run, {base.get('probe_us', 0):.1f} us in the baseline "
           f"({base.get('machine', '?')})")
     print(f"| {'kernel':<{w}} | {'CPU us':>10} | {'ratio':>9} | {'baseline':>9} | {'ratio/base':>10} | status |")
     print(f"|{'-' * (w + 2)}|{'-' * 12}|{'-' * 11}|{'-' * 11}|{'-' * 12}|--------|")

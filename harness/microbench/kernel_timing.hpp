@@ -5,7 +5,8 @@
 // slowest rank's wall time (section_times): the manual time of the iteration, the same on
 // every rank, so Google Benchmark picks the same iteration count everywhere (Google Benchmark's
 // own time column is per iteration; the counters below are per call).  After the loop, and
-// outside the manual time, the STREAM-triad probe runs kProbePasses times.
+// outside the manual time, the STREAM-triad probes (memory, then cache-resident) run
+// kProbePasses times each.
 //
 // Counters (rank 0, per call of the kernel (per unit of work: one SOR sweep), per rank):
 //   min_us, median_us   fastest and median iteration, wall time (the time Google Benchmark
@@ -26,12 +27,13 @@
 //                       time) and one rank's triad bandwidth from the wall time
 //   roofline_fraction   GBps / triad_GBps: the share of the measured memory bandwidth the
 //                       kernel reaches (above 1 for kernels whose data stay in cache)
-//   ratio               gate_us / triad_cpu_us: the kernel's time in units of the probe's
-//                       time, machine-independent to first order; the CI gate compares it
-//                       (gate.py takes the probe's least CPU time over the whole run); the
-//                       communication kernels replace it by gate_us over an MPI message
-//                       probe (bench_kernels.cpp, set_comm_probe)
-//   wall_ratio          min_us / triad_us, the same in wall time
+//   cache_triad_us, cache_triad_cpu_us, cache_triad_GBps  the same for the cache-resident
+//                       triad (stream_probe.hpp), run after the memory one
+//   ratio               gate_us / cache_triad_cpu_us: the kernel's time in units of the
+//                       cache-resident probe's, machine-independent to first order; the CI
+//                       gate compares it (gate.py takes the probe's least CPU time over the
+//                       whole run); the global reduction replaces it by gate_us over an MPI
+//                       latency probe (bench_kernels.cpp, set_comm_probe)
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 

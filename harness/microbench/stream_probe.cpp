@@ -21,8 +21,12 @@ double* alloc_doubles(std::size_t n) {
 }
 }  // namespace
 
-TriadProbe::TriadProbe(std::size_t elements)
-    : n_(elements), a_(alloc_doubles(elements)), b_(alloc_doubles(elements)), c_(alloc_doubles(elements)) {
+TriadProbe::TriadProbe(std::size_t elements, int sweeps)
+    : n_(elements),
+      sweeps_(sweeps),
+      a_(alloc_doubles(elements)),
+      b_(alloc_doubles(elements)),
+      c_(alloc_doubles(elements)) {
   double *a = a_.get(), *b = b_.get(), *c = c_.get();
   const long n = static_cast<long>(n_);
   // First touch with the same static schedule as the pass, so pages sit near their thread.
@@ -40,9 +44,11 @@ Times TriadProbe::run(MPI_Comm comm) {
   const long n = static_cast<long>(n_);
   const double s = 3.0;
   return section_times(comm, [&] {
+    for (int sweep = 0; sweep < sweeps_; ++sweep) {
 #pragma omp parallel for simd schedule(static)
-    for (long i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
-    benchmark::ClobberMemory();
+      for (long i = 0; i < n; ++i) a[i] = b[i] + s * c[i];
+      benchmark::ClobberMemory();
+    }
   });
 }
 
@@ -91,6 +97,11 @@ Times message_probe(MPI_Comm comm, int passes, std::size_t doubles, int round_tr
 
 TriadProbe& triad_probe() {
   static TriadProbe probe;
+  return probe;
+}
+
+TriadProbe& cache_triad_probe() {
+  static TriadProbe probe(std::size_t{1} << 14, 64);
   return probe;
 }
 
