@@ -13,8 +13,11 @@
 // every decomposition, every thread count, and in both communication modes:
 //   sync:  a blocking halo exchange (Reach::faces) of x after every colour;
 //   async: begin() the exchange of the colour just updated, update the next colour's
-//          interior points (all six neighbours owned) while it flies, finish(), then
-//          update that colour's points next to the subdomain boundary.
+//          interior points while it flies (in k-slabs with MPI_Testall between them),
+//          finish(), then update that colour's points next to a face whose neighbour is
+//          another rank. Faces at a wall (zero weight) or on the rank's own periodic wrap
+//          (ghosts copied in begin()) need no wait. The timers show the overlap: halo_wait
+//          (the final wait) against the sync mode's blocking halo_mpi.
 // The whole field travels each time (sending only the updated colour would halve it).
 #include <vector>
 

@@ -23,7 +23,8 @@
 // Counters (rank 0; per step, ms, from this rank's RegionTimers):
 //   compute_ms       stencil kernels (stress and its Crank-Nicolson sweeps, v*, transport,
 //                    divergence, ACM, projection)
-//   halo_pack_ms, halo_unpack_ms, halo_mpi_ms (posting and waiting), reduce_ms (moments,
+//   halo_pack_ms, halo_unpack_ms, halo_mpi_ms (blocking exchanges; async posting and
+//                    progress), halo_wait_ms (the async final wait), reduce_ms (moments,
 //                    blow-up check), sor_sweeps_ms (SOR colour updates), fft_solve_ms (FFTs,
 //                    Thomas, reordering), transpose_mpi_ms (the FFT solve's MPI_Alltoallv)
 //   other_ms         step time minus all the regions above (untimed code, timer skew, the
