@@ -103,7 +103,8 @@ class Figures(unittest.TestCase):
                 label += f" eps={eps.replace('0.001', '1e-3').replace('0.0001', '1e-4')}"
             header = next(l for l in ours.splitlines() if l.startswith("| ranks"))
             columns = [c.strip() for c in header.strip("|").split("|")]
-            col = columns.index(label)
+            # A set-up that differs between series (steps, block) follows the label in brackets.
+            col = next(i for i, c in enumerate(columns) if c == label or c.startswith(label + " ("))
             for ranks, (median, runs, ratio) in by_ranks.items():
                 row = next(l for l in ours.splitlines() if l.startswith(f"| {ranks:,} |"))
                 cell = [c.strip() for c in row.strip("|").split("|")][col]
