@@ -73,16 +73,23 @@ int run(const Options& o) {
   c.solver.dt = o.dt;
   c.solver.physics.G = o.G;
   c.particles = o.particles ? *o.particles : static_cast<int>(lattice_site_count(c.domain, c.particle));
-  c.solver.velocity_limit = 100.0 * poiseuille_centre_velocity(c);
+  c.solver.velocity_limit = default_velocity_limit(c);
   const std::string dir = o.out.empty() ? "." : o.out;
   check_writable(dir + "/comparison.txt", "--out");
 
-  std::vector<RunOutcome> runs;
-  std::vector<std::vector<SolidRegion>> regions;
+  // Every method's set-up is checked before the first one runs: a run of hours must not be
+  // followed by a configuration error.
+  std::vector<std::vector<Particle>> particles;
   for (PressureKind m : methods) {
     c.method = m;
-    const std::vector<Particle> particles = validate_case(c, ranks, double(total) * c.solver.dt);
-    const std::string tag = to_string(m);
+    particles.push_back(validate_case(c, ranks, double(total) * c.solver.dt));
+  }
+
+  std::vector<RunOutcome> runs;
+  std::vector<std::vector<SolidRegion>> regions;
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    c.method = methods[k];
+    const std::string tag = to_string(c.method);
     RunRequest req;
     req.program = "accuracy";
     req.experiment = "accuracy";
@@ -91,7 +98,7 @@ int run(const Options& o) {
     req.series = dir + "/series-" + tag + ".csv";
     req.centroids = dir + "/centroids-" + tag + ".csv";
     req.csv = o.csv;
-    runs.push_back(run_case(c, particles, req));
+    runs.push_back(run_case(c, particles[k], req));
     const CartDecomposition& dec = *runs.back().decomp;
     const Field& phi = runs.back().solver->state().phi();
     regions.push_back(solid_regions(phi, c.domain, dec));

@@ -133,11 +133,12 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
                 particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured);
-    if (c.method == PressureKind::sor) std::printf("  N_S = %d SOR sweeps per step", c.sor_sweeps);
+    std::string sweeps;
+    if (c.method == PressureKind::sor) sweeps = "N_S = " + std::to_string(c.sor_sweeps) + " SOR sweeps per step";
     if (c.solver.cn_sweeps > 0)
-      std::printf("%sN_C = %d Crank-Nicolson sweeps per step", c.method == PressureKind::sor ? ", " : "  ",
-                  c.solver.cn_sweeps);
-    if (c.method == PressureKind::sor || c.solver.cn_sweeps > 0) std::printf("\n");
+      sweeps += (sweeps.empty() ? "N_C = " : ", N_C = ") + std::to_string(c.solver.cn_sweeps) +
+                " Crank-Nicolson sweeps per step";
+    if (!sweeps.empty()) std::printf("  %s\n", sweeps.c_str());
     std::fflush(stdout);
   }
   out.solver = build_solver(c, dec, particles);

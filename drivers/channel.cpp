@@ -74,8 +74,7 @@ int run(const Options& o) {
   ChannelCase c;
   c.domain.cells = parse_int3(o.cells, "--cells");
   if (o.length.empty()) {
-    // The paper's spacing: 64 cells per 3.6.
-    for (int a = 0; a < 3; ++a) c.domain.length[a] = c.domain.cells[a] * (3.6 / 64);
+    for (int a = 0; a < 3; ++a) c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
   } else {
     c.domain.length = parse_double3(o.length, "--length");
   }
@@ -106,7 +105,7 @@ int run(const Options& o) {
   }
   if (!o.decomp.empty()) c.forced_dims = parse_int3(o.decomp, "--decomp");
   if (o.every < 1) throw ConfigError("--every " + std::to_string(o.every) + " must be at least 1");
-  c.solver.velocity_limit = o.velocity_limit.value_or(100.0 * std::fabs(poiseuille_centre_velocity(c)));
+  c.solver.velocity_limit = o.velocity_limit.value_or(default_velocity_limit(c));
 
   long total = o.steps + 1;  // one warm-up step, then the measured ones
   if (o.t_end) {

@@ -59,11 +59,11 @@ int run(const Options& o) {
                       std::to_string(kLatticeCellsAcross) + " (1, 2, 4, 8 or 16)");
   for (int a = 0; a < 3; ++a) {
     c.domain.cells[a] = kFullCells[a] / o.scale;
-    c.domain.length[a] = c.domain.cells[a] * (3.6 / 64);  // the paper's spacing
+    c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
   }
   c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));  // 16384 / scale^3
   if (!o.decomp.empty()) c.forced_dims = parse_int3(o.decomp, "--decomp");
-  c.solver.velocity_limit = 100.0 * poiseuille_centre_velocity(c);
+  c.solver.velocity_limit = default_velocity_limit(c);
 
   if (o.dry_run) {
     if (!o.dry_ranks) throw ConfigError("--dry-run needs --ranks N");

@@ -41,10 +41,10 @@ int run(const Options& o) {
   c.forced_dims = dims;
   for (int a = 0; a < 3; ++a) {
     c.domain.cells[a] = dims[a] * o.local;
-    c.domain.length[a] = c.domain.cells[a] * (3.6 / 64);  // the paper's spacing
+    c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
   }
   c.particles = o.particles_per_rank * ranks;
-  c.solver.velocity_limit = 100.0 * poiseuille_centre_velocity(c);
+  c.solver.velocity_limit = default_velocity_limit(c);
 
   return run_scaling_case(c, "weak_scaling", "weak", eps_cell(o.m, c), steps, o.csv);
 }

@@ -32,6 +32,8 @@ double poiseuille_centre_velocity(const ChannelCase& c) {
   return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
 }
 
+double default_velocity_limit(const ChannelCase& c) { return 100.0 * std::fabs(poiseuille_centre_velocity(c)); }
+
 std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_end) {
   const Domain& d = c.domain;
   for (int a = 0; a < 3; ++a)

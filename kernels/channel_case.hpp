@@ -14,6 +14,9 @@ namespace efsi {
 
 enum class PressureKind { acm, sor, fft };
 
+// The paper's grid spacing: 64 cells per 3.6, one particle-lattice cell.
+inline constexpr double kPaperSpacing = 3.6 / 64;
+
 struct ChannelCase {
   Domain domain;
   SolverConfig solver;
@@ -42,5 +45,8 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
 
 // Laminar centreline velocity f Ly^2 / (8 mu): the a-priori velocity scale.
 double poiseuille_centre_velocity(const ChannelCase& c);
+
+// The blow-up bound every driver uses unless told otherwise: 100 times that velocity.
+double default_velocity_limit(const ChannelCase& c);
 
 }  // namespace efsi
