@@ -9,6 +9,7 @@ packages=(
   libcli11-dev                       # command lines
   libgtest-dev googletest            # tests
   libbenchmark-dev                   # micro-benchmarks
+  valgrind                           # the CI gate's counted work (callgrind)
   python3 python3-matplotlib         # plots (Debian's python3 at /usr/bin/python3)
   jube                               # cluster benchmark definitions
 )
