@@ -1,65 +1,72 @@
 #!/usr/bin/env bash
-# CI micro-benchmark gate (harness/microbench/README.md): runs bench_kernels briefly on 2 MPI
-# ranks (every kernel at 32^3 and 64^3 cells per rank, whole steps at 32^3), then compares
-# each kernel's ratio (fastest time / the in-run STREAM-triad probe's fastest pass) with the
-# committed baseline; fails when one is more than 1.5 times its baseline.
-#   ci/microbench_gate.sh [BUILD_DIR]                       the gate (default build/)
-#   ci/microbench_gate.sh --refresh-baseline [BUILD_DIR]    rewrites the baseline from the
-#                                                           median of 3 runs of the same set
-# Environment: EFSI_GATE_BASELINE (default results/microbench/baseline/bench_kernels-2ranks.json),
-# EFSI_GATE_OUT (default results/local/microbench-gate.json), EFSI_GATE_FACTOR (1.5),
-# EFSI_GATE_MACHINE (name written into a refreshed baseline, default dev-2core).
+# CI micro-benchmark gate (harness/microbench/README.md).  Decides on counted work, which does
+# not depend on the host or its load: bench_kernels, built for a fixed target (the `counted`
+# preset, -march=x86-64-v3, which Valgrind executes), runs once on 2 MPI ranks under
+# callgrind with simulated caches; per kernel its instructions, estimated cycles and MPI
+# messages and bytes are compared with the committed baseline of that build configuration
+# (results/microbench/baseline/counts-<configuration>.json).  A short timed run of the
+# native build is printed beside, as information.
+#   ci/microbench_gate.sh [BUILD_DIR]                      the gate (timed build: build/)
+#   ci/microbench_gate.sh --refresh-baseline [BUILD_DIR]   rewrites the baseline from one
+#                                                          counted run (counts repeat exactly)
+# Environment: EFSI_GATE_OUT (default results/local/microbench-gate), EFSI_GATE_MACHINE
+# (recorded in a refreshed baseline, default dev-2core), EFSI_GATE_TIMED=0 (skip the timed run).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 refresh=0
 if [ "${1:-}" = "--refresh-baseline" ]; then refresh=1; shift; fi
 build="${1:-build}"
-baseline="${EFSI_GATE_BASELINE:-results/microbench/baseline/bench_kernels-2ranks.json}"
-out="${EFSI_GATE_OUT:-results/local/microbench-gate.json}"
-factor="${EFSI_GATE_FACTOR:-1.5}"
-mkdir -p "$(dirname "$out")"
+out="${EFSI_GATE_OUT:-results/local/microbench-gate}"
+counted_build=build-counted
+py=/usr/bin/python3
+command -v valgrind >/dev/null || { echo "microbench gate: valgrind not found (Debian package valgrind; ci/install-deps.sh installs it)"; exit 1; }
 
-# The gate's benchmark set; the baseline is written from runs of the same set.
-filter='^BM_[A-Za-z]+(/(sync|async))?/(32|64)/|^BM_Step/.*/32/|^BM_GlobalReduction'
+export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMP_NUM_THREADS=1
+# Single-copy (CMA) transfers need ptrace rights between the ranks, which containers often deny.
+export OMPI_MCA_btl_vader_single_copy_mechanism=none
+# The counted set: every kernel at 32^3 per rank, whole steps at 32^3, the global reduction.
+filter='/32/|^BM_GlobalReduction'
 
-run_set() {  # $1: JSON output, $2: filter
-  local bind=(--bind-to core) log="${1%.json}.log"
-  [ "$(nproc)" -ge 2 ] || bind=(--oversubscribe --bind-to none)
-  # EFSI_MPI_WAIT_CLOCK=1: count the CPU time inside MPI's waits (the gate's figure excludes it).
-  if ! OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 OMPI_MCA_btl_vader_single_copy_mechanism=none \
-    OMP_NUM_THREADS=1 EFSI_MPI_WAIT_CLOCK=1 mpiexec -n 2 "${bind[@]}" "$build/bin/bench_kernels" \
-      --benchmark_filter="$2" --benchmark_min_time=0.1 --benchmark_repetitions=3 \
-      --benchmark_out="$1" --benchmark_out_format=json >"$log" 2>&1; then
-    tail -n 40 "$log"
-    echo "bench_kernels failed (log: $log)"
-    exit 1
-  fi
-}
+start=$SECONDS
+mkdir -p "$out"
+cmake --preset counted >/dev/null
+cmake --build --preset counted >"$out/counted-build.log" 2>&1 ||
+  { tail -n 30 "$out/counted-build.log"; echo "microbench gate: the counted build failed"; exit 1; }
+
+# Instrumentation and collection start off; bench_kernels switches them on around each kernel
+# (callgrind_region.hpp).  Caches fixed to this machine kind's per-core L1 and L2 (Zen 4:
+# 32 KiB 8-way each, 1 MiB 8-way), not taken from the host's CPUID.
+rm -rf "$out/counted"
+mkdir -p "$out/counted"
+if ! EFSI_COUNT=1 mpiexec -n 2 --oversubscribe --bind-to none \
+    valgrind --tool=callgrind --instr-atstart=no --collect-atstart=no --cache-sim=yes \
+      --I1=32768,8,64 --D1=32768,8,64 --LL=1048576,8,64 \
+      --callgrind-out-file="$out/counted/cg.%q{OMPI_COMM_WORLD_RANK}" \
+      "$counted_build/bin/bench_kernels" --benchmark_filter="$filter" \
+      --benchmark_out="$out/counted/counts.json" --benchmark_out_format=json >"$out/counted/log" 2>&1; then
+  tail -n 40 "$out/counted/log"
+  echo "microbench gate: the counted run failed (log: $out/counted/log)"
+  exit 1
+fi
+echo "counted run: $((SECONDS - start)) s (build and callgrind)"
 
 if [ "$refresh" = 1 ]; then
-  runs=()
-  for r in 1 2 3; do
-    run_set "${out%.json}-refresh$r.json" "$filter"
-    runs+=("${out%.json}-refresh$r.json")
-  done
-  /usr/bin/python3 harness/microbench/gate.py "${runs[@]}" --write-baseline "$baseline" \
-    --machine "${EFSI_GATE_MACHINE:-dev-2core}" --command "ci/microbench_gate.sh --refresh-baseline"
-  exit 0
+  exec "$py" harness/microbench/gate.py write "$out/counted" --machine "${EFSI_GATE_MACHINE:-dev-2core}"
 fi
 
-# A kernel over the limit is run again (at most twice) before the gate fails: its ratio is
-# the least of its runs', so a slowdown must show every time, not once on a busy machine.
-runs=("$out")
-failed="${out%.json}-failed.txt"
-run_set "$out" "$filter"
-for attempt in 1 2; do
-  if /usr/bin/python3 harness/microbench/gate.py "${runs[@]}" --baseline "$baseline" --factor "$factor" \
-    --failed-list "$failed"; then
-    exit 0
+timed=()
+if [ "${EFSI_GATE_TIMED:-1}" != 0 ] && [ -x "$build/bin/bench_kernels" ]; then
+  bind=(--bind-to core)
+  [ "$(nproc)" -ge 2 ] || bind=(--oversubscribe --bind-to none)
+  if mpiexec -n 2 "${bind[@]}" "$build/bin/bench_kernels" --benchmark_filter='^BM_[A-Za-z]+(/(sync|async))?/(32|64)/|^BM_Step/.*/32/|^BM_GlobalReduction' \
+      --benchmark_min_time=0.05 --benchmark_repetitions=3 \
+      --benchmark_out="$out/timed.json" --benchmark_out_format=json >"$out/timed.log" 2>&1; then
+    timed=(--timed "$out/timed.json")
+  else
+    echo "microbench gate: the timed run failed (information only; log: $out/timed.log)"
   fi
-  names="$(paste -sd'|' "$failed")"
-  echo "rerunning: $names"
-  run_set "${out%.json}-rerun$attempt.json" "^($names)/manual_time\$"
-  runs+=("${out%.json}-rerun$attempt.json")
-done
-/usr/bin/python3 harness/microbench/gate.py "${runs[@]}" --baseline "$baseline" --factor "$factor"
+fi
+status=0
+"$py" harness/microbench/gate.py check "$out/counted" "${timed[@]}" || status=$?
+echo "microbench gate: $((SECONDS - start)) s"
+exit $status

@@ -7,9 +7,22 @@ target_compile_options(efsi_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
   -ffp-contract=off -fno-math-errno -fopenmp-simd
   $<$<CONFIG:Release,RelWithDebInfo>:-O3>)
-if(EFSI_NATIVE)
+# EFSI_ARCH fixes the target instead (the counted preset's x86-64-v3: AVX2, which Valgrind
+# executes, and the same instructions whichever CPU builds it).
+set(EFSI_ARCH "" CACHE STRING "Target instruction set (-march=EFSI_ARCH); empty: EFSI_NATIVE decides")
+if(EFSI_ARCH)
+  target_compile_options(efsi_options INTERFACE -march=${EFSI_ARCH})
+  set(EFSI_TARGET_NAME ${EFSI_ARCH})
+elseif(EFSI_NATIVE)
   target_compile_options(efsi_options INTERFACE -march=native)
+  set(EFSI_TARGET_NAME native)
+else()
+  set(EFSI_TARGET_NAME generic)
 endif()
+# The build configuration in one word, for the counted gate's choice of baseline
+# (results/microbench/baseline/counts-<this>.json): target, compiler, build type.
+string(TOLOWER "${EFSI_TARGET_NAME}-${CMAKE_CXX_COMPILER_ID}-${CMAKE_CXX_COMPILER_VERSION}-${CMAKE_BUILD_TYPE}"
+       EFSI_BUILD_CONFIG)
 # -O1 under the sanitizers: at -O0 the solver tests run for tens of minutes.
 if(EFSI_SANITIZE)
   target_compile_options(efsi_options INTERFACE

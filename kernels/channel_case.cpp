@@ -81,7 +81,7 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
       pressure = std::make_unique<SmacSorPressure>(c.solver.comm == CommMode::sync ? SorComm::sync : SorComm::async,
                                                    c.sor_sweeps);
       break;
-    case PressureKind::fft: pressure = std::make_unique<SmacFftPressure>(); break;
+    case PressureKind::fft: pressure = std::make_unique<SmacFftPressure>(c.fft_planning); break;
   }
   auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
   Field& phi = solver->state().phi();

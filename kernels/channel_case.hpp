@@ -7,6 +7,7 @@
 
 #include "decomposition.hpp"
 #include "domain.hpp"
+#include "fft_poisson.hpp"
 #include "fsi_solver.hpp"
 #include "particles.hpp"
 
@@ -26,6 +27,9 @@ struct ChannelCase {
   double slab = 0.0;    // > 0: the layered case, solid for slab < y < Ly - slab
   ParticleSpec particle;
   Int3 forced_dims{0, 0, 0};
+  // FFTW_MEASURE times candidate plans, so which plan runs (and its instruction count) can
+  // change from run to run; the counted CI gate needs estimate.
+  FftPoisson::Planning fft_planning = FftPoisson::Planning::measure;
 };
 
 PressureKind parse_method(const std::string& name);  // throws ConfigError

@@ -10,12 +10,11 @@
 //   BM_AcmMoments/n           acm_moments: the ACM's local sums and its MPI_Allreduce of 7
 //   BM_AcmIncrement/n         AcmPressure::increment: the moments, coefficients and the update
 //   BM_SorSweep/{sync,async}/n   one four-colour SOR sweep (time of sweeps(rhs, 10) / 10)
-//   BM_FftSolve/n             one FFT Poisson solve (FFTW_MEASURE plans)
+//   BM_FftSolve/n             one FFT Poisson solve (FFTW_MEASURE plans; counted: estimate)
 //   BM_HaloExchange/{sync,async}/n  the batched exchange of the eleven state fields (26
 //                             neighbours), as each step does it
 //   BM_GlobalReduction        the blow-up check's MPI_Allreduce (max of 2 doubles), 100 per
 //                             iteration; independent of n, so registered once
-// (the reduction's ratio is over an MPI latency probe, the others' over the cache triad)
 //   BM_Step/<method>/<mode>/n one whole step of each method (channel_setup.hpp's cases)
 //
 //   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_kernels
@@ -111,6 +110,12 @@ struct KernelSetup {
   KernelCost cost(PerCell c) const { return {cells(), c.bytes, c.flops}; }
 };
 
+// Counted runs plan FFTs without timing candidates (FftPoisson::Planning::estimate): the
+// plan, and so the work, is then the same in every run.
+FftPoisson::Planning fft_planning() {
+  return bench::count_mode() ? FftPoisson::Planning::estimate : FftPoisson::Planning::measure;
+}
+
 // One set-up kept at a time: benchmarks of one size run one after another.
 std::unique_ptr<KernelSetup> g_kernels;
 std::unique_ptr<bench::ChannelSetup> g_step;
@@ -188,23 +193,12 @@ void BM_SorSweep(benchmark::State& state, int n, SorComm mode) {
 // fft_solve_cost(NX, NZ): 304 B and 2 x 2.5 log2 NX + (NX/2+1)/NX (10 log2 NZ + 17) flops.
 void BM_FftSolve(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
-  FftPoisson fft(*k.ch.dec, k.ch.c.domain, FftPoisson::Planning::measure, &k.timers);
+  FftPoisson fft(*k.ch.dec, k.ch.c.domain, fft_planning(), &k.timers);
   const double factor = 1.0 / k.dt();
   fft.solve(k.work.div, k.work.dp, factor);  // warm-up
   const Int3& g = k.ch.dec->global();
   bench::time_kernel(state, k.cost(bench::fft_solve_cost(g[X], g[Z])), 1,
                      [&] { fft.solve(k.work.div, k.work.dp, factor); });
-  state.counters["mpi_bytes"] = static_cast<double>(fft.doubles_sent()) * sizeof(double);
-}
-
-// The global reduction's ratio is taken over stream_probe.hpp's message probe (one double,
-// run as many times as the triad probe) instead of the triad: counters comm_probe_us and
-// comm_probe_cpu_us (one-way time), and ratio = gate_us / comm_probe_cpu_us, which is what
-// gate.py uses for a row with comm_probe_cpu_us.
-void set_comm_probe(benchmark::State& state, const bench::Times& probe) {
-  state.counters["comm_probe_us"] = probe.wall * 1e6;
-  state.counters["comm_probe_cpu_us"] = probe.cpu * 1e6;
-  if (probe.cpu > 0) state.counters["ratio"] = state.counters["gate_us"] / (probe.cpu * 1e6);
 }
 
 // halo_bytes_per_cell: 4 x MPI bytes + 2 x local bytes per exchange; no flops.
@@ -212,8 +206,7 @@ void BM_HaloExchange(benchmark::State& state, int n, CommMode mode) {
   KernelSetup& k = kernel_setup(n);
   HaloExchange halo(*k.ch.dec, k.state().all(), Reach::full, &k.timers);
   halo.exchange();  // warm-up
-  KernelCost cost = k.cost({halo_bytes_per_cell(halo, k.cells()), 0});
-  cost.communication = true;
+  const KernelCost cost = k.cost({halo_bytes_per_cell(halo, k.cells()), 0});
   if (mode == CommMode::sync) {
     bench::time_kernel(state, cost, 1, [&] { halo.exchange(); });
   } else {
@@ -222,23 +215,18 @@ void BM_HaloExchange(benchmark::State& state, int n, CommMode mode) {
       halo.finish();
     });
   }
-  state.counters["mpi_bytes"] = static_cast<double>(halo.bytes_sent_mpi());
   state.counters["local_bytes"] = static_cast<double>(halo.bytes_copied_local());
 }
 
 // FsiSolver::check_blow_up's MPI_Allreduce of 2 doubles (MPI_MAX): 16 B per call on each
-// rank, no flops; reported per call (the cells counter is 1: one call).  Latency-bound:
-// ratio over the message probe with a one-double message.
+// rank, no flops; reported per call (the cells counter is 1: one call).
 void BM_GlobalReduction(benchmark::State& state) {
   const double local[2] = {1.0, 2.0};
   double global[2] = {0, 0};
-  KernelCost cost{1, 16, 0};
-  cost.communication = true;
-  bench::time_kernel(state, cost, kReductions, [&] {
+  bench::time_kernel(state, KernelCost{1, 16, 0}, kReductions, [&] {
     MPI_Allreduce(local, global, 2, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
     benchmark::DoNotOptimize(global);
   });
-  set_comm_probe(state, bench::message_probe(MPI_COMM_WORLD, bench::kProbePasses, 1, kReductions));
 }
 
 // One step: the sum of its kernels' counts (kernel_costs.hpp) and halo traffic (StepHalos):
@@ -269,7 +257,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
   const std::string key = bench::step_case_name(m) + "/" + std::to_string(n);
   if (!g_step || g_step_key != key) {
     g_step.reset();
-    g_step = std::make_unique<bench::ChannelSetup>(m, n);
+    g_step = std::make_unique<bench::ChannelSetup>(m, n, fft_planning());
     g_step_key = key;
     g_step->solver->impose_laminar_flow();
     g_step->solver->step();  // warm-up: first touch, FFTW and MPI set-up
@@ -281,9 +269,12 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
 [[maybe_unused]] const bool kRegistered = [] {
   using Fn = std::function<void(benchmark::State&)>;
   auto reg = [](const std::string& name, Fn f) {
-    benchmark::RegisterBenchmark(name.c_str(), [f](benchmark::State& s) { f(s); })
-        ->UseManualTime()
-        ->Unit(benchmark::kMicrosecond);
+    auto* b = benchmark::RegisterBenchmark(name.c_str(), [f, name](benchmark::State& s) {
+      bench::set_kernel_name(name);
+      f(s);
+    });
+    b->UseManualTime()->Unit(benchmark::kMicrosecond);
+    if (bench::count_mode()) b->Iterations(1)->Repetitions(1);
   };
   for (int n : kSizes) {
     const std::string sz = "/" + std::to_string(n);

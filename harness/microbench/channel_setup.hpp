@@ -60,7 +60,7 @@ struct ChannelSetup {
   std::unique_ptr<CartDecomposition> dec;
   std::unique_ptr<FsiSolver> solver;
 
-  ChannelSetup(const StepCase& m, int block) {
+  ChannelSetup(const StepCase& m, int block, FftPoisson::Planning planning = FftPoisson::Planning::measure) {
     int p = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &p);
     c.domain.cells = {block * p, block, block};
@@ -71,6 +71,7 @@ struct ChannelSetup {
     c.solver.cn_sweeps = m.nc;
     c.method = m.method;
     c.sor_sweeps = m.ns;
+    c.fft_planning = planning;
     // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
     c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
     c.forced_dims = {p, 1, 1};

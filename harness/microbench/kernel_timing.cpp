@@ -1,24 +1,45 @@
 #include "kernel_timing.hpp"
 
 #include <algorithm>
+#include <cstdlib>
+#include <cstring>
 
 #include "stream_probe.hpp"
 
 namespace efsi::bench {
+namespace {
+std::string g_kernel_name;
+}
+
+bool count_mode() {
+  static const bool on = [] {
+    const char* v = std::getenv("EFSI_COUNT");
+    return v && std::strcmp(v, "1") == 0;
+  }();
+  return on;
+}
+
+void start_counting_once() {
+  static const bool started = [] {
+    callgrind_start_instrumentation();
+    return true;
+  }();
+  (void)started;
+}
+
+void set_kernel_name(const std::string& name) { g_kernel_name = name; }
+const std::string& kernel_name() { return g_kernel_name; }
 
 void report_kernel(benchmark::State& state, std::vector<Times>& times, const KernelCost& cost) {
   // Every rank holds the same times (section_times) and runs the probe together.
   const Times probe = triad_probe().best(MPI_COMM_WORLD, kProbePasses);
-  const Times cache_probe = cache_triad_probe().best(MPI_COMM_WORLD, kProbePasses);
   if (times.empty()) return;
   std::vector<double> wall;
-  double cpu_min = times.front().cpu, work_min = times.front().work;
+  double cpu_min = times.front().cpu;
   for (const Times& t : times) {
     wall.push_back(t.wall);
     cpu_min = std::min(cpu_min, t.cpu);
-    work_min = std::min(work_min, t.work);
   }
-  const double gate = cost.communication ? cpu_min : work_min;
   std::sort(wall.begin(), wall.end());
   const std::size_t m = wall.size();
   const double t_min = wall.front();
@@ -29,22 +50,30 @@ void report_kernel(benchmark::State& state, std::vector<Times>& times, const Ker
   state.counters["min_us"] = t_min * 1e6;
   state.counters["median_us"] = t_med * 1e6;
   state.counters["cpu_min_us"] = cpu_min * 1e6;
-  state.counters["work_min_us"] = work_min * 1e6;
-  state.counters["gate_us"] = gate * 1e6;
-  state.counters["wait_clock"] = mpi_wait_clock_requested() ? 1.0 : 0.0;
   state.counters["bytes_per_cell"] = cost.bytes_per_cell;
   state.counters["flops_per_cell"] = cost.flops_per_cell;
   state.counters["cells"] = cost.cells;
   state.counters["GBps"] = gbps;
   state.counters["GFLOPs"] = t_med > 0 ? flops / t_med / 1e9 : 0.0;
   state.counters["triad_us"] = probe.wall * 1e6;
-  state.counters["triad_cpu_us"] = probe.cpu * 1e6;
   state.counters["triad_GBps"] = triad_gbps;
   state.counters["roofline_fraction"] = triad_gbps > 0 ? gbps / triad_gbps : 0.0;
-  state.counters["cache_triad_us"] = cache_probe.wall * 1e6;
-  state.counters["cache_triad_cpu_us"] = cache_probe.cpu * 1e6;
-  state.counters["cache_triad_GBps"] = cache_probe.wall > 0 ? cache_triad_probe().bytes() / cache_probe.wall / 1e9 : 0.0;
-  state.counters["ratio"] = cache_probe.cpu > 0 ? gate / cache_probe.cpu : 0.0;
+}
+
+void report_counts(benchmark::State& state, const MpiCensus& used, const KernelCost& cost, int calls) {
+  const double units = static_cast<double>(calls) * cost.units;
+  const double local[4] = {static_cast<double>(used.messages), static_cast<double>(used.bytes),
+                           static_cast<double>(used.collectives), static_cast<double>(used.collective_bytes)};
+  double most[4] = {0, 0, 0, 0};
+  MPI_Allreduce(local, most, 4, MPI_DOUBLE, MPI_MAX, MPI_COMM_WORLD);
+  state.counters["units"] = units;
+  state.counters["cells"] = cost.cells;
+  state.counters["mpi_messages"] = most[0] / units;
+  state.counters["mpi_bytes"] = most[1] / units;
+  state.counters["mpi_collectives"] = most[2] / units;
+  state.counters["mpi_collective_bytes"] = most[3] / units;
+  state.counters["bytes_per_cell"] = cost.bytes_per_cell;
+  state.counters["flops_per_cell"] = cost.flops_per_cell;
 }
 
 }  // namespace efsi::bench

@@ -1,46 +1,37 @@
 #pragma once
-// The timing loop and the roofline counters every bench_kernels benchmark shares.
+// The loop every bench_kernels benchmark shares, in one of two modes.
 //
-// Each iteration runs `calls` calls of the kernel on every rank at once and takes the
-// slowest rank's wall time (section_times): the manual time of the iteration, the same on
-// every rank, so Google Benchmark picks the same iteration count everywhere (Google Benchmark's
-// own time column is per iteration; the counters below are per call).  After the loop, and
-// outside the manual time, the STREAM-triad probes (memory, then cache-resident) run
-// kProbePasses times each.
-//
-// Counters (rank 0, per call of the kernel (per unit of work: one SOR sweep), per rank):
-//   min_us, median_us   fastest and median iteration, wall time (the time Google Benchmark
-//                       reports is the mean, which one preempted iteration on a shared machine
-//                       drags)
-//   cpu_min_us          least CPU time of an iteration (kernel_clock.hpp: the rank that used
-//                       least)
-//   work_min_us         least CPU time outside MPI's blocking calls of an iteration
-//                       (kernel_clock.hpp: the slowest rank's); with EFSI_MPI_WAIT_CLOCK
-//                       unset, no call is counted and this is the CPU time of the slowest
-//                       rank (mpi_wait_clock.hpp)
-//   gate_us             the gate's figure: work_min_us, or cpu_min_us for a communication
-//                       kernel (KernelCost::communication)
-//   bytes_per_cell, flops_per_cell   the kernel's counted traffic and work (see the comment
-//                       beside each kernel), per owned cell of one rank
+// Timed (the default): each iteration runs `calls` calls of the kernel on every rank at once
+// and takes the slowest rank's wall time (section_times): the manual time of the iteration,
+// the same on every rank, so Google Benchmark picks the same iteration count everywhere.
+// After the loop, and outside the manual time, the STREAM-triad probe runs kProbePasses
+// times.  Counters (rank 0, per call of the kernel (per unit of work: one SOR sweep), per
+// rank); all of them information, none gated:
+//   min_us, median_us   fastest and median iteration, wall time (Google Benchmark's own
+//                       column is the mean, which one preempted iteration drags)
+//   cpu_min_us          least CPU time of an iteration (kernel_clock.hpp)
+//   bytes_per_cell, flops_per_cell   the kernel's counted traffic and work (kernel_costs.hpp)
 //   GBps, GFLOPs        counted bytes and flops of one rank / median time (1e9 per second)
-//   triad_us, triad_cpu_us, triad_GBps  the probe's fastest pass (wall time; least CPU
-//                       time) and one rank's triad bandwidth from the wall time
-//   roofline_fraction   GBps / triad_GBps: the share of the measured memory bandwidth the
-//                       kernel reaches (above 1 for kernels whose data stay in cache)
-//   cache_triad_us, cache_triad_cpu_us, cache_triad_GBps  the same for the cache-resident
-//                       triad (stream_probe.hpp), run after the memory one
-//   ratio               gate_us / cache_triad_cpu_us: the kernel's time in units of the
-//                       cache-resident probe's, machine-independent to first order; the CI
-//                       gate compares it (gate.py takes the probe's least CPU time over the
-//                       whole run); the global reduction replaces it by gate_us over an MPI
-//                       latency probe (bench_kernels.cpp, set_comm_probe)
+//   triad_us, triad_GBps  the probe's fastest pass and one rank's triad bandwidth
+//   roofline_fraction   GBps / triad_GBps (above 1 for kernels whose data stay in cache)
+//
+// Counted (EFSI_COUNT=1 in the environment, under callgrind; the CI gate,
+// ci/microbench_gate.sh): one warm-up of `calls` calls with instrumentation on, then the
+// same calls with callgrind's collection on and MPI's own calls left out
+// (mpi_interpose.hpp), dumped under the benchmark's name (callgrind_region.hpp); no clock is
+// read.  Counters, per unit of work, the most over ranks: mpi_messages, mpi_bytes (point to
+// point, to other ranks), mpi_collectives, mpi_collective_bytes; and units (calls x units
+// per call), by which the gate divides callgrind's totals.  Register counted benchmarks with
+// one iteration and one repetition (counted_benchmark()).
 #include <benchmark/benchmark.h>
 #include <mpi.h>
 
+#include <string>
 #include <vector>
 
+#include "callgrind_region.hpp"
 #include "kernel_clock.hpp"
-#include "mpi_wait_clock.hpp"
+#include "mpi_interpose.hpp"
 
 namespace efsi::bench {
 
@@ -51,27 +42,63 @@ struct KernelCost {
   double cells = 1;           // owned cells per rank the call works on
   double bytes_per_cell = 0;  // bytes one unit must move, per cell
   double flops_per_cell = 0;  // flops one unit does, per cell
-  int units = 1;              // units of work per call (sweeps for SOR): times are per unit
-  bool communication = false; // the work is communication: the gate uses the CPU time, not
-                              // the work (kernel_clock.hpp)
+  int units = 1;              // units of work per call (sweeps for SOR): figures are per unit
 };
 
-// Sets the counters above from the per-call times of the iterations.
+// EFSI_COUNT=1 in the environment (read once).
+bool count_mode();
+
+// Instrumentation on at the first counted kernel and never off again: callgrind cannot follow
+// calls and returns while it is off, so switching it off inside a call (the benchmark's
+// frames) leaves returns it never saw entered, with negative costs in the next dumps.
+void start_counting_once();
+
+// The benchmark being run: the name its callgrind dump carries (Google Benchmark 1.7 does
+// not tell a benchmark its own name; the registration sets it).
+void set_kernel_name(const std::string& name);
+const std::string& kernel_name();
+
+// Sets the timed counters from the per-call times of the iterations.
 void report_kernel(benchmark::State& state, std::vector<Times>& times, const KernelCost& cost);
+
+// Sets the counted counters from this rank's census of the measured calls.
+void report_counts(benchmark::State& state, const MpiCensus& used, const KernelCost& cost, int calls);
+
+template <class Body>
+void count_kernel(benchmark::State& state, const KernelCost& cost, int calls, Body&& body) {
+  const auto run = [&] {
+    for (int c = 0; c < calls; ++c) body();
+  };
+  start_counting_once();
+  run();
+  MPI_Barrier(MPI_COMM_WORLD);
+  const MpiCensus before = mpi_census();
+  set_mpi_uncollected(true);
+  callgrind_toggle_collect();
+  run();
+  callgrind_toggle_collect();
+  set_mpi_uncollected(false);
+  const MpiCensus used = mpi_census() - before;
+  callgrind_dump(kernel_name());
+  for (auto _ : state) state.SetIterationTime(1.0);
+  report_counts(state, used, cost, calls);
+}
 
 template <class Body>
 void time_kernel(benchmark::State& state, const KernelCost& cost, int calls, Body&& body) {
+  if (count_mode()) {
+    count_kernel(state, cost, calls, body);
+    return;
+  }
   std::vector<Times> times;
-  set_mpi_wait_clock(mpi_wait_clock_requested() && !cost.communication);
   for (auto _ : state) {
     const Times t = section_times(MPI_COMM_WORLD, [&] {
       for (int c = 0; c < calls; ++c) body();
     });
     state.SetIterationTime(t.wall);
     const double per = static_cast<double>(calls) * cost.units;
-    times.push_back({t.wall / per, t.cpu / per, t.work / per});
+    times.push_back({t.wall / per, t.cpu / per});
   }
-  set_mpi_wait_clock(false);
   report_kernel(state, times, cost);
 }
 

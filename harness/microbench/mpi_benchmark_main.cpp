@@ -32,6 +32,7 @@ int run_main(int argc, char** argv, const std::function<void()>& before_finalize
   MPI_Comm_size(MPI_COMM_WORLD, &nranks);
   benchmark::AddCustomContext("mpi_ranks", std::to_string(nranks));
   benchmark::AddCustomContext("omp_threads", std::to_string(efsi::max_threads()));
+  benchmark::AddCustomContext("efsi_build", EFSI_BUILD_CONFIG);
   if (runtime.rank() == 0) {
     benchmark::RunSpecifiedBenchmarks();
   } else {

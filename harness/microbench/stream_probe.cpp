@@ -6,8 +6,6 @@
 #include <cstdlib>
 #include <limits>
 #include <new>
-#include <vector>
-
 
 namespace efsi::bench {
 
@@ -54,54 +52,17 @@ Times TriadProbe::run(MPI_Comm comm) {
 
 Times TriadProbe::best(MPI_Comm comm, int passes) {
   constexpr double inf = std::numeric_limits<double>::infinity();
-  Times t{inf, inf, inf};
+  Times t{inf, inf};
   for (int p = 0; p < passes; ++p) {
     const Times r = run(comm);
     t.wall = std::min(t.wall, r.wall);
     t.cpu = std::min(t.cpu, r.cpu);
-    t.work = std::min(t.work, r.work);
-  }
-  return t;
-}
-
-Times message_probe(MPI_Comm comm, int passes, std::size_t doubles, int round_trips) {
-  int rank = 0, size = 1;
-  MPI_Comm_rank(comm, &rank);
-  MPI_Comm_size(comm, &size);
-  const int peer = (rank % 2 == 0) ? rank + 1 : rank - 1;
-  const bool active = peer < size;
-  std::vector<double> message(std::max<std::size_t>(doubles, 1), 1.0);
-  const int count = static_cast<int>(message.size());
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Times t{inf, inf, inf};
-  const double per = 2.0 * round_trips;
-  for (int p = 0; p < passes; ++p) {
-    const Times r = section_times(comm, [&] {
-      if (!active) return;
-      for (int n = 0; n < round_trips; ++n) {
-        if (rank % 2 == 0) {
-          MPI_Send(message.data(), count, MPI_DOUBLE, peer, 0, comm);
-          MPI_Recv(message.data(), count, MPI_DOUBLE, peer, 0, comm, MPI_STATUS_IGNORE);
-        } else {
-          MPI_Recv(message.data(), count, MPI_DOUBLE, peer, 0, comm, MPI_STATUS_IGNORE);
-          MPI_Send(message.data(), count, MPI_DOUBLE, peer, 0, comm);
-        }
-      }
-    });
-    t.wall = std::min(t.wall, r.wall / per);
-    t.cpu = std::min(t.cpu, r.cpu / per);
-    t.work = std::min(t.work, r.work / per);
   }
   return t;
 }
 
 TriadProbe& triad_probe() {
   static TriadProbe probe;
-  return probe;
-}
-
-TriadProbe& cache_triad_probe() {
-  static TriadProbe probe(std::size_t{1} << 14, 64);
   return probe;
 }
 

@@ -44,21 +44,4 @@ class TriadProbe {
 // The process's probe (made on first use, first-touched by the threads that use it).
 TriadProbe& triad_probe();
 
-// The same triad on arrays of 2^14 doubles (3 x 128 KiB: inside each core's 1 MiB L2),
-// 64 sweeps a pass: the CI gate's unit of time.  The kernels' data sit largely in cache (a
-// 32^3 field is 0.4 MiB with its halo, a 64^3 one 2.3 MiB against 32 MiB of L3), and on the
-// dev VM the memory-bound triad's time moves by up to 1.9x from one process to the next (host
-// memory traffic, page backing) while the kernels' times do not; the cache-resident triad
-// moves with what the kernels' times move with (clock, core, caches).
-TriadProbe& cache_triad_probe();
-
-// The probe for the global reduction, whose time a bandwidth probe says nothing about:
-// ranks 2r and 2r + 1 bounce one message of `doubles` doubles `round_trips` times (a last
-// odd rank idles); returns the least over `passes` passes of section_times' wall and CPU
-// time per one-way message (collective).  With one double it is the MPI latency, which moves
-// with what sets the reduction's time on a given machine (on the dev VM the latency between
-// the two vCPUs changes by 2x from one run to the next: host placement), so the reduction's
-// time over it is the machine-independent figure.
-Times message_probe(MPI_Comm comm, int passes, std::size_t doubles, int round_trips);
-
 }  // namespace efsi::bench

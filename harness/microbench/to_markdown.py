@@ -7,7 +7,7 @@ Columns: median time per call (median over repetitions of each repetition's medi
 iteration), counted bytes and flops per cell, achieved GB/s and GFLOP/s per rank from the
 median time, and the fraction of the in-run STREAM-triad bandwidth the kernel reaches: its
 GB/s over the triad's best per-rank bandwidth in the run (all ranks streaming together; the
-same figure for every row, in the heading).  The gate's ratios are in gate.py's table.
+same figure for every row, in the heading).  The gate's counted figures are in gate.py's table.
 """
 import argparse
 import os
@@ -23,7 +23,7 @@ def main():
     ap.add_argument("--machine", default="dev-2core")
     a = ap.parse_args()
     doc = bench_json.load(a.run)
-    s, _ = bench_json.summary(doc)
+    s = bench_json.summary(doc)
     probe = bench_json.probe_us(doc, "triad_us")
     ctx = doc.get("context", {})
     triad = max(r["triad_GBps"] for r in s.values())  # from the run's fastest pass
