@@ -179,7 +179,7 @@ void BM_AcmIncrement(benchmark::State& state, int n) {
 
 // kSorSweep (64 B, 14 flops) + the halo exchanges of x: 4 per sweep, plus the one at the
 // start of each call (sweeps(rhs, 10): 4.1 per sweep).
-void BM_SorSweep(benchmark::State& state, int n, SorComm mode) {
+void BM_SorSweep(benchmark::State& state, int n, CommMode mode) {
   KernelSetup& k = kernel_setup(n);
   SorPoisson sor(*k.ch.dec, k.ch.c.domain, k.work.dp, mode, &k.timers);
   const double factor = 1.0 / k.dt();
@@ -283,8 +283,8 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
     reg("BM_Transport" + sz, [n](benchmark::State& s) { BM_Transport(s, n); });
     reg("BM_AcmMoments" + sz, [n](benchmark::State& s) { BM_AcmMoments(s, n); });
     reg("BM_AcmIncrement" + sz, [n](benchmark::State& s) { BM_AcmIncrement(s, n); });
-    reg("BM_SorSweep/sync" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, SorComm::sync); });
-    reg("BM_SorSweep/async" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, SorComm::async); });
+    reg("BM_SorSweep/sync" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, CommMode::sync); });
+    reg("BM_SorSweep/async" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, CommMode::async); });
     reg("BM_FftSolve" + sz, [n](benchmark::State& s) { BM_FftSolve(s, n); });
     reg("BM_HaloExchange/sync" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::sync); });
     reg("BM_HaloExchange/async" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::async); });

@@ -187,7 +187,7 @@ void BM_FftSolve(benchmark::State& state) {
   state.counters["ranks"] = static_cast<double>(pb.dec->size());
 }
 
-void BM_SorSweep(benchmark::State& state, SorComm mode) {
+void BM_SorSweep(benchmark::State& state, CommMode mode) {
   const int per_call = static_cast<int>(state.range(0));
   Problem pb(64);
   RegionTimers timers;
@@ -219,13 +219,13 @@ void BM_SorSweep(benchmark::State& state, SorComm mode) {
 }
 
 BENCHMARK(BM_FftSolve)->ArgName("n")->Arg(64)->Arg(128)->UseManualTime()->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_SorSweep, sync, SorComm::sync)
+BENCHMARK_CAPTURE(BM_SorSweep, sync, CommMode::sync)
     ->ArgName("sweeps_per_call")
     ->Arg(1)
     ->Arg(kSorSweeps)
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(BM_SorSweep, async, SorComm::async)
+BENCHMARK_CAPTURE(BM_SorSweep, async, CommMode::async)
     ->ArgName("sweeps_per_call")
     ->Arg(1)
     ->Arg(kSorSweeps)

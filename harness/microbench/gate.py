@@ -27,16 +27,20 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench_json  # noqa: E402
 import callgrind_counts  # noqa: E402
 
-# The gated figures and the relative change each may show against the baseline.  Counts are
-# deterministic (zero spread over runs, hosts and load); instructions get a little room for
-# a harmless edit, the cache estimate a little more, the messages none.
+# The gated figures: the relative change each may show against the baseline, and a floor
+# per unit of work below which a change is not counted.  Counts are deterministic up to a
+# few instructions of heap bookkeeping (malloc's state depends on MPI's history); the cache
+# estimate moves a little more, because MPI's own calls (left out of the counts, but run
+# through the simulated caches) evict a few lines depending on when messages arrive.  That
+# is noise only where a kernel's own work is a few dozen instructions (the global
+# reduction: its work is MPI's), hence the floors.  The MPI census allows no change at all.
 TOLERANCE = {
-    "Ir": 0.02,
-    "est_cycles": 0.03,
-    "mpi_messages": 0.0,
-    "mpi_bytes": 0.0,
-    "mpi_collectives": 0.0,
-    "mpi_collective_bytes": 0.0,
+    "Ir": (0.02, 100),
+    "est_cycles": (0.03, 1000),
+    "mpi_messages": (0.0, 0),
+    "mpi_bytes": (0.0, 0),
+    "mpi_collectives": (0.0, 0),
+    "mpi_collective_bytes": (0.0, 0),
 }
 EXACT = 1e-9  # what "no change" allows for a per-unit figure stored as a decimal
 DEFAULT_DIR = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "results", "microbench", "baseline"))
@@ -66,7 +70,7 @@ def check(run_dir, directory, timed):
     names = list(kernels) + [n for n in counts if n not in kernels]
     w = max(len(n) for n in names)
     print(f"counted gate: {run_dir} against {os.path.relpath(path)} (build {build}; tolerances "
-          + ", ".join(f"{k} {v:.0%}" for k, v in TOLERANCE.items() if v) + ", MPI census exact)")
+          + ", ".join(f"{k} {t:.0%} (floor {f})" for k, (t, f) in TOLERANCE.items() if t) + ", MPI census exact)")
     print(f"| {'kernel':<{w}} | {'Ir/unit':>12} | {'vs base':>8} | {'est.cycles':>12} | {'vs base':>8} "
           f"| {'msgs':>7} | {'MPI bytes':>11} | {'coll.':>6} | {'coll. bytes':>11} | status |")
     print(f"|{'-' * (w + 2)}|{'-' * 14}|{'-' * 10}|{'-' * 14}|{'-' * 10}|{'-' * 9}|{'-' * 13}|{'-' * 8}|{'-' * 13}|--------|")
@@ -83,9 +87,9 @@ def check(run_dir, directory, timed):
                   f"{row['mpi_bytes']:11.6g} | {row['mpi_collectives']:6.3g} | {row['mpi_collective_bytes']:11.6g} | new    |")
             continue
         bad = []
-        for fig, tol in TOLERANCE.items():
+        for fig, (tol, floor) in TOLERANCE.items():
             rel = relative(row[fig], b[fig])
-            if abs(rel) > max(tol, EXACT):
+            if abs(rel) > max(tol, EXACT) and abs(row[fig] - b[fig]) > floor:
                 bad.append(f"{fig} {row[fig]:.6g} vs {b[fig]:.6g} ({rel:+.2%})")
         status = "FAIL" if bad else "ok"
         print(cells + f"{relative(row['Ir'], b['Ir']):+8.2%} | {row['est_cycles']:12.6g} | "

@@ -1,4 +1,4 @@
-#include "smac_pressure.hpp"
+#include "smac_sor.hpp"
 
 #include <string>
 
@@ -6,21 +6,7 @@
 
 namespace efsi {
 
-void SmacFftPressure::attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work,
-                             RegionTimers& timers) {
-  fft_ = std::make_unique<FftPoisson>(decomp, domain, planning_, &timers);
-  // grad dp on the owned faces reads the low face ghosts.
-  dp_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work.dp}, Reach::faces, &timers);
-}
-
-void SmacFftPressure::increment(PressureInputs& in) {
-  // D* sums to the net flux through the boundary, zero to round-off; the solve removes
-  // that round-off mean and returns <dp> = 0, so <p> stays where it started.
-  fft_->solve(in.work.div, in.work.dp, 1.0 / in.dt);
-  dp_halo_->exchange();
-}
-
-SmacSorPressure::SmacSorPressure(SorComm comm, int sweeps, double omega)
+SmacSorPressure::SmacSorPressure(CommMode comm, int sweeps, double omega)
     : comm_(comm), sweeps_(sweeps), omega_(omega) {
   if (sweeps < 1) throw ConfigError("SOR sweeps per step N_S=" + std::to_string(sweeps) + " must be at least 1");
   report_.sweeps = sweeps;

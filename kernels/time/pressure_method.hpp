@@ -3,9 +3,15 @@
 // pressure increment dp with D^{N+1} = D* - dt Lap(dp), D* = rho div v*.
 #include "fsi_equations.hpp"
 #include "region_timers.hpp"
-#include "stepper.hpp"
 
 namespace efsi {
+
+// What the pressure correction of the last step chose (ACM: beta, gamma).
+struct PressureReport {
+  double beta = 0, gamma = 0;
+  int sweeps = 0;          // SOR sweeps of the last step
+  double residual = 0;     // relative residual of the last solve (SMAC)
+};
 
 struct PressureInputs {
   const FsiState& state;  // p^N with its ghosts

@@ -4,6 +4,7 @@
 // minimise the mean square of the next divergence, from one MPI_Allreduce of 7 numbers.
 #include <array>
 
+#include "laplacian.hpp"
 #include "pressure_method.hpp"
 
 namespace efsi {
@@ -37,12 +38,5 @@ class AcmPressure final : public PressureMethod {
   AcmMoments moments_;
   AcmCoefficients coeff_;
 };
-
-// The 7-point Laplacian at cell c (walls: zero flux through the even-mirrored ghosts).
-inline double laplacian(const Field& f, const double inv_h2[3], int i, int j, int k) {
-  const double c = f(i, j, k);
-  return (f(i + 1, j, k) - 2 * c + f(i - 1, j, k)) * inv_h2[0] + (f(i, j + 1, k) - 2 * c + f(i, j - 1, k)) * inv_h2[1] +
-         (f(i, j, k + 1) - 2 * c + f(i, j, k - 1)) * inv_h2[2];
-}
 
 }  // namespace efsi

@@ -4,6 +4,8 @@
 // differs between ACM and the SMAC variants.
 #include <memory>
 
+#include "comm_mode.hpp"
+
 #include "crank_nicolson.hpp"
 #include "fsi_equations.hpp"
 #include "halo_exchange.hpp"
@@ -11,8 +13,6 @@
 #include "stepper.hpp"
 
 namespace efsi {
-
-enum class CommMode { sync, async };
 
 struct SolverConfig {
   Physics physics;
@@ -76,8 +76,5 @@ class FsiSolver final : public Stepper {
   long steps_ = 0;
   double time_ = 0.0;
 };
-
-// DESIGN.md section 6 diagnostics of the current state (ghosts must be current). Collective.
-FlowDiagnostics flow_diagnostics(const FsiState& s, const Physics& ph);
 
 }  // namespace efsi

@@ -89,7 +89,7 @@ const FieldSpec kX{"x", Stagger::cell, 1, WallParity::even};
 const FieldSpec kRhs{"rhs", Stagger::cell, 1, WallParity::even};
 
 // N sweeps from a random start with a random zero-mean rhs; returns the gathered field.
-std::vector<double> solve(MPI_Comm comm, const Int3& g, const Int3& dims, SorComm mode, int n,
+std::vector<double> solve(MPI_Comm comm, const Int3& g, const Int3& dims, CommMode mode, int n,
                           std::vector<double>* local_bits = nullptr) {
   CartDecomposition dec(comm, g, 2, dims);
   Field x(dec, kX), rhs(dec, kRhs);
@@ -118,7 +118,7 @@ TEST(SorPoisson, SyncAsyncAndEveryDecompositionGiveTheOneRankFieldBitwise) {
   for (const Int3& g : kGrids) {
     // The reference: one rank, MPI_COMM_SELF, on rank 0; broadcast to everybody.
     std::vector<double> ref(product(g));
-    if (rank == 0) ref = solve(MPI_COMM_SELF, g, {1, 1, 1}, SorComm::sync, kSweeps);
+    if (rank == 0) ref = solve(MPI_COMM_SELF, g, {1, 1, 1}, CommMode::sync, kSweeps);
     MPI_Bcast(ref.data(), static_cast<int>(ref.size()), MPI_DOUBLE, 0, MPI_COMM_WORLD);
     const auto dims_list = fitting_decompositions(p, g, 2);
     if (p > 1) {
@@ -127,8 +127,8 @@ TEST(SorPoisson, SyncAsyncAndEveryDecompositionGiveTheOneRankFieldBitwise) {
     for (const Int3& dims : dims_list) {
       const std::string where = "grid " + to_string(g) + " decomposition " + to_string(dims);
       std::vector<double> bits_sync, bits_async;
-      const auto s = solve(MPI_COMM_WORLD, g, dims, SorComm::sync, kSweeps, &bits_sync);
-      const auto a = solve(MPI_COMM_WORLD, g, dims, SorComm::async, kSweeps, &bits_async);
+      const auto s = solve(MPI_COMM_WORLD, g, dims, CommMode::sync, kSweeps, &bits_sync);
+      const auto a = solve(MPI_COMM_WORLD, g, dims, CommMode::async, kSweeps, &bits_async);
       EXPECT_TRUE(same_bits(bits_sync, bits_async)) << where << ": sync and async differ (ghosts included)";
       EXPECT_TRUE(same_bits(s, ref)) << where << ": differs from the one-rank run";
       EXPECT_TRUE(same_bits(a, ref)) << where << ": async differs from the one-rank run";
@@ -147,9 +147,9 @@ TEST(SorPoisson, ConvergesToTheManufacturedSolution) {
   ASSERT_FALSE(dims_list.empty());
   // The first and last decompositions: different splits, same answer expected.
   for (const Int3& dims : {dims_list.front(), dims_list.back()}) {
-    for (SorComm mode : {SorComm::sync, SorComm::async}) {
+    for (CommMode mode : {CommMode::sync, CommMode::async}) {
       const std::string where =
-          "decomposition " + to_string(dims) + (mode == SorComm::sync ? " sync" : " async");
+          "decomposition " + to_string(dims) + (mode == CommMode::sync ? " sync" : " async");
       CartDecomposition dec(MPI_COMM_WORLD, g, 2, dims);
       const Domain dom = make_domain(g);
       Field xe(dec, {"x_exact", Stagger::cell, 1, WallParity::even}), rhs(dec, kRhs), x(dec, kX);
@@ -195,7 +195,7 @@ TEST(SorPoisson, ConvergesToTheManufacturedSolution) {
           EXPECT_LT(history[n], history[n - 1]) << where << " after " << n * kChunk << " sweeps";
         }
       EXPECT_LT(history.back(), 1e-10 * r0) << where;
-      if (world_rank() == 0 && mode == SorComm::sync && dims == dims_list.front())
+      if (world_rank() == 0 && mode == CommMode::sync && dims == dims_list.front())
         std::printf("[manufactured 16^3] relative residual after 100/250/500/1000 sweeps: %.2e %.2e %.2e %.2e\n",
                     history[4] / r0, history[10] / r0, history[20] / r0, history[40] / r0);
 
@@ -266,16 +266,16 @@ TEST(SorPoisson, RefusesOddPeriodicCounts) {
   for (const Int3& g : std::vector<Int3>{{15, 8 * p, 16}, {16, 8 * p, 15}}) {
     CartDecomposition dec(MPI_COMM_WORLD, g, 2, {1, p, 1});
     Field x(dec, kX);
-    EXPECT_THROW(SorPoisson(dec, make_domain(g), x, SorComm::sync), ConfigError) << to_string(g);
+    EXPECT_THROW(SorPoisson(dec, make_domain(g), x, CommMode::sync), ConfigError) << to_string(g);
   }
   // Odd in y (walls) is fine.
   const Int3 g{16, 9, 16};
   CartDecomposition dec(MPI_COMM_WORLD, g, 2, {0, 1, 0});
   Field x(dec, kX);
-  EXPECT_NO_THROW(SorPoisson(dec, make_domain(g), x, SorComm::async));
+  EXPECT_NO_THROW(SorPoisson(dec, make_domain(g), x, CommMode::async));
   // A field of the wrong kind.
   Field u(dec, {"u", Stagger::face_x, 1, WallParity::odd});
-  EXPECT_THROW(SorPoisson(dec, make_domain(g), u, SorComm::sync), ConfigError);
+  EXPECT_THROW(SorPoisson(dec, make_domain(g), u, CommMode::sync), ConfigError);
 }
 
 // Information only: sweeps to 1e-3 and 1e-4 of the initial residual on the paper's 64^3
@@ -291,7 +291,7 @@ TEST(SorPoisson, Info64CubedSweepCountsAndTiming) {
     x.fill(0.0);
     rhs.fill(0.0);
     scatter(rhs, zero_mean_noise(3, g), g);
-    SorPoisson sor(dec, dom, x, SorComm::sync);
+    SorPoisson sor(dec, dom, x, CommMode::sync);
     const double r0 = sor.residual_rms(rhs);
     int n3 = -1, n4 = -1;
     for (int s = 1; s <= 2000 && n4 < 0; ++s) {
@@ -314,7 +314,7 @@ TEST(SorPoisson, Info64CubedSweepCountsAndTiming) {
     x.fill(0.0);
     rhs.fill(0.0);
     scatter(rhs, zero_mean_noise(5, gt), gt);
-    for (SorComm mode : {SorComm::sync, SorComm::async}) {
+    for (CommMode mode : {CommMode::sync, CommMode::async}) {
       RegionTimers timers;
       SorPoisson sor(dec, Domain{gt, {3.6 * gt[X] / 64, 3.6, 3.6}}, x, mode, &timers);
       sor.sweeps(rhs, 3);  // warm-up
@@ -334,7 +334,7 @@ TEST(SorPoisson, Info64CubedSweepCountsAndTiming) {
       if (rank == 0)
         std::printf("[timing] grid %s on %d rank(s) %s: %.3f ms/sweep median (min %.3f, max %.3f); rank 0 per "
                     "sweep: sor_sweeps %.3f ms, halo_mpi %.3f, halo_wait %.3f, pack %.3f, unpack %.3f\n",
-                    to_string(gt).c_str(), p, mode == SorComm::sync ? "sync " : "async", ms[kReps / 2], ms.front(),
+                    to_string(gt).c_str(), p, mode == CommMode::sync ? "sync " : "async", ms[kReps / 2], ms.front(),
                     ms.back(), 1e3 * timers.get(Region::sor_sweeps) / sweeps,
                     1e3 * timers.get(Region::halo_mpi) / sweeps, 1e3 * timers.get(Region::halo_wait) / sweeps,
                     1e3 * timers.get(Region::halo_pack) / sweeps,

@@ -3,7 +3,7 @@
 #include <cmath>
 #include <string>
 
-#include "acm.hpp"
+#include "laplacian.hpp"
 #include "config_error.hpp"
 
 namespace efsi {
@@ -31,7 +31,7 @@ Field& checked(const CartDecomposition& decomp, const Domain& domain, Field& x, 
 
 }  // namespace
 
-SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, SorComm comm,
+SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, CommMode comm,
                        RegionTimers* timers, double omega)
     : decomp_(decomp),
       x_(checked(decomp, domain, x, omega)),
@@ -156,7 +156,7 @@ void SorPoisson::update_boundary(const Field& rhs, double factor, int colour) {
 
 void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
   if (n <= 0) return;
-  if (comm_ == SorComm::sync) {
+  if (comm_ == CommMode::sync) {
     halo_.exchange();
     for (int s = 0; s < n; ++s)
       for (int c = 0; c < 4; ++c) {

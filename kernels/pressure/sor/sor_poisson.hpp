@@ -1,7 +1,7 @@
 #pragma once
 // Four-colour SOR for the discrete pressure Poisson equation Lap x = rhs (DESIGN.md 3.2).
 //
-// Lap is the 7-point operator of acm.hpp (`laplacian`): periodic in x and z, zero flux
+// Lap is the 7-point operator of laplacian.hpp: periodic in x and z, zero flux
 // through the walls in y.  A cell's colour comes from its GLOBAL indices,
 // c = (i mod 2) + 2 ((j + k) mod 2), so the six neighbours of a cell never share its
 // colour (this needs even global counts in x and z, the periodic directions; y has walls
@@ -21,6 +21,7 @@
 // The whole field travels each time (sending only the updated colour would halve it).
 #include <vector>
 
+#include "comm_mode.hpp"
 #include "decomposition.hpp"
 #include "domain.hpp"
 #include "field.hpp"
@@ -29,14 +30,12 @@
 
 namespace efsi {
 
-enum class SorComm { sync, async };
-
 class SorPoisson {
  public:
   // x: cell-centred, halo >= 1, WallParity::even, on `decomp`.  Throws ConfigError (on
   // every rank alike, before any communication) for odd global x or z counts, a domain
   // that does not match the decomposition, or an unsuitable field.
-  SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, SorComm comm,
+  SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, CommMode comm,
              RegionTimers* timers = nullptr, double omega = 1.6);
   SorPoisson(const SorPoisson&) = delete;
   SorPoisson& operator=(const SorPoisson&) = delete;
@@ -52,7 +51,7 @@ class SorPoisson {
   static int colour(int gi, int gj, int gk) { return (gi & 1) + 2 * ((gj + gk) & 1); }
 
   double omega() const { return omega_; }
-  SorComm comm_mode() const { return comm_; }
+  CommMode comm_mode() const { return comm_; }
   const HaloExchange& halo() const { return halo_; }
 
  private:
@@ -63,7 +62,7 @@ class SorPoisson {
 
   const CartDecomposition& decomp_;
   Field& x_;
-  SorComm comm_;
+  CommMode comm_;
   RegionTimers* timers_;
   double omega_;
   double inv_h2_[3];

@@ -3,10 +3,11 @@
 // the same place, with half weight on the wall planes, which is exactly what the
 // momentum equation's stress divergence does to the energy (summation by parts with the
 // mirrored ghosts), so the budget closes to the time-stepping error.
+#include "flow_diagnostics.hpp"
+
 #include <cmath>
 
 #include "constitutive.hpp"
-#include "fsi_solver.hpp"
 
 namespace efsi {
 

@@ -4,7 +4,8 @@
 #include <cmath>
 
 #include "acm.hpp"
-#include "smac_pressure.hpp"
+#include "smac_fft.hpp"
+#include "smac_sor.hpp"
 #include "config_error.hpp"
 #include "time_step_limits.hpp"
 
@@ -26,7 +27,6 @@ const char* to_string(PressureKind k) {
   return "?";
 }
 
-const char* to_string(CommMode m) { return m == CommMode::sync ? "sync" : "async"; }
 
 double poiseuille_centre_velocity(const ChannelCase& c) {
   return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
@@ -78,7 +78,7 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
   switch (c.method) {
     case PressureKind::acm: pressure = std::make_unique<AcmPressure>(); break;
     case PressureKind::sor:
-      pressure = std::make_unique<SmacSorPressure>(c.solver.comm == CommMode::sync ? SorComm::sync : SorComm::async,
+      pressure = std::make_unique<SmacSorPressure>(c.solver.comm,
                                                    c.sor_sweeps);
       break;
     case PressureKind::fft: pressure = std::make_unique<SmacFftPressure>(c.fft_planning); break;

@@ -13,7 +13,8 @@
 
 #include "centroids.hpp"
 #include "mpi_test_support.hpp"
-#include "smac_pressure.hpp"
+#include "smac_fft.hpp"
+#include "smac_sor.hpp"
 #include "solver_fixtures.hpp"
 #include "sor_calibration.hpp"
 
@@ -26,7 +27,7 @@ using Factory = std::function<std::unique_ptr<PressureMethod>(CommMode)>;
 
 Factory sor(int sweeps) {
   return [sweeps](CommMode m) {
-    return std::make_unique<SmacSorPressure>(m == CommMode::sync ? SorComm::sync : SorComm::async, sweeps);
+    return std::make_unique<SmacSorPressure>(m, sweeps);
   };
 }
 // FFTW_ESTIMATE keeps the many small set-ups of these tests instant; the plan does not

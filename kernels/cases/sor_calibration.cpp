@@ -6,7 +6,7 @@
 #include <string>
 
 #include "config_error.hpp"
-#include "smac_pressure.hpp"
+#include "smac_sor.hpp"
 
 namespace efsi {
 
@@ -25,7 +25,7 @@ SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& deco
   const Field& dp_fft = solver->work().dp;
   const double factor = 1.0 / c.solver.dt;
   Field x(decomp, {"dp_sor", Stagger::cell, 1, WallParity::even});
-  SorPoisson sor(decomp, c.domain, x, SorComm::sync);
+  SorPoisson sor(decomp, c.domain, x, CommMode::sync);
 
   SorCalibration out;
   x.fill(0.0);

@@ -34,7 +34,6 @@ struct ChannelCase {
 
 PressureKind parse_method(const std::string& name);  // throws ConfigError
 const char* to_string(PressureKind k);
-const char* to_string(CommMode m);
 
 // Everything that can be checked without allocating a field: decomposition for `ranks`,
 // time step under the viscous, elastic and advective limits, particles inside the box,

@@ -1,0 +1,19 @@
+#include "smac_fft.hpp"
+
+namespace efsi {
+
+void SmacFftPressure::attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work,
+                             RegionTimers& timers) {
+  fft_ = std::make_unique<FftPoisson>(decomp, domain, planning_, &timers);
+  // grad dp on the owned faces reads the low face ghosts.
+  dp_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work.dp}, Reach::faces, &timers);
+}
+
+void SmacFftPressure::increment(PressureInputs& in) {
+  // D* sums to the net flux through the boundary, zero to round-off; the solve removes
+  // that round-off mean and returns <dp> = 0, so <p> stays where it started.
+  fft_->solve(in.work.div, in.work.dp, 1.0 / in.dt);
+  dp_halo_->exchange();
+}
+
+}  // namespace efsi

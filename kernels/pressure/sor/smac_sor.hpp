@@ -1,0 +1,38 @@
+#pragma once
+// SMAC with four-colour SOR (docs/numerics.md, "SMAC"): N_S sweeps (omega 1.6) of
+// Lap dp = D*/dt from dp = 0 each step, so that the residual ratio eps of the calibration
+// is also the factor by which the step reduces the divergence; no global reduction at all
+// (the mean of p is left free).
+#include <memory>
+#include <vector>
+
+#include "pressure_method.hpp"
+#include "sor_poisson.hpp"
+
+namespace efsi {
+
+class SmacSorPressure final : public PressureMethod {
+ public:
+  // sweeps: N_S per step (>= 1).
+  SmacSorPressure(CommMode comm, int sweeps, double omega = 1.6);
+  void attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work, RegionTimers& timers) override;
+  void increment(PressureInputs& in) override;
+  const PressureReport& report() const override { return report_; }
+  int sweeps() const { return sweeps_; }
+
+ private:
+  CommMode comm_;
+  int sweeps_;
+  double omega_;
+  std::unique_ptr<SorPoisson> sor_;
+  PressureReport report_;
+};
+
+// The paper's calibration of N_S: SOR sweeps from x = 0 on Lap x = factor rhs until the
+// RMS residual is at most eps times its initial value. Returns the count, or -1 when
+// max_sweeps did not get there. `residuals` (optional) receives the relative residual
+// after every sweep. Collective; x is overwritten.
+int count_sor_sweeps(SorPoisson& sor, Field& x, const Field& rhs, double factor, double eps, int max_sweeps,
+                     std::vector<double>* residuals = nullptr);
+
+}  // namespace efsi
