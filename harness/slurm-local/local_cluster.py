@@ -105,6 +105,25 @@ def process_name(pid):
         return ""
 
 
+def terminate(pids, grace):
+    """SIGTERM, then SIGKILL after `grace` seconds; the pids still alive after both."""
+    for sig in (signal.SIGTERM, signal.SIGKILL):
+        for pid in pids:
+            try:
+                os.kill(pid, sig)
+            except ProcessLookupError:
+                pass
+        end = time.monotonic() + grace
+        while time.monotonic() < end:
+            for pid in pids:
+                reap(pid)
+            pids = [p for p in pids if alive(p)]
+            if not pids:
+                return []
+            time.sleep(0.1)
+    return pids
+
+
 def _die_with_parent():
     # Linux PR_SET_PDEATHSIG: a test that is killed (a CTest timeout sends SIGKILL, which no
     # finally block survives) still takes its daemons with it.
@@ -249,6 +268,13 @@ PartitionName={PARTITION} Nodes={self.node} Default=YES MaxTime=INFINITE State=U
                 raise ClusterError(f"port {port} is taken (give free ones with --ports CTLD,SLURMD)")
         if ports[0] == ports[1]:
             raise ClusterError(f"slurmctld and slurmd need two different ports, not {ports[0]} twice")
+        parent = os.path.dirname(self.dir)
+        while not os.path.exists(parent):
+            parent = os.path.dirname(parent)
+        for up in [parent] + [p for p in self._ancestors(parent)]:
+            if not os.stat(up).st_mode & 0o001:
+                raise ClusterError(f"{up} is not searchable by all (chmod o+x): munged needs that on every "
+                                   "directory above its socket")
         deadline = time.monotonic() + timeout
         # munged wants its socket's directory open to all and its key private.
         for sub, mode in (("", 0o755), ("munge", 0o755), ("key", 0o700), ("state", 0o700), ("spool", 0o755),
@@ -276,6 +302,12 @@ PartitionName={PARTITION} Nodes={self.node} Default=YES MaxTime=INFINITE State=U
             raise
         return self
 
+    @staticmethod
+    def _ancestors(path):
+        while path != os.path.dirname(path):
+            path = os.path.dirname(path)
+            yield path
+
     def node_state(self):
         try:
             r = self.slurm("sinfo", "-h", "-N", "-n", self.node, "-o", "%T", timeout=10)
@@ -284,18 +316,56 @@ PartitionName={PARTITION} Nodes={self.node} Default=YES MaxTime=INFINITE State=U
         return r.stdout.strip()
 
     def strays(self):
-        """slurmstepd processes of this cluster (they carry its SLURM_CONF in their environment)."""
-        mark = f"SLURM_CONF={self.conf}".encode()
-        found = []
+        """Job steps of this cluster and what they started: slurmstepd processes with a file of
+        DIR open (slurmd's log; they overwrite their own environment with the process title),
+        then their descendants (the job scripts, srun, the drivers), which outlive a slurmd
+        that was killed."""
+        parents, steps = {}, []
         for entry in os.listdir("/proc"):
-            if entry.isdigit() and process_name(int(entry)) == "slurmstepd":
-                try:
-                    with open(f"/proc/{entry}/environ", "rb") as f:
-                        if mark in f.read().split(b"\0"):
-                            found.append(int(entry))
-                except OSError:
-                    pass
+            if not entry.isdigit():
+                continue
+            pid = int(entry)
+            try:
+                with open(f"/proc/{pid}/stat") as f:
+                    parents[pid] = int(f.read().rsplit(")", 1)[1].split()[1])
+                if process_name(pid) == "slurmstepd" and alive(pid):
+                    fds = os.listdir(f"/proc/{pid}/fd")
+                    if any(os.readlink(f"/proc/{pid}/fd/{fd}").startswith(self.dir + "/") for fd in fds):
+                        steps.append(pid)
+            except (OSError, IndexError, ValueError):
+                pass
+        found, todo = [], list(steps)
+        while todo:
+            pid = todo.pop()
+            if pid not in found:
+                found.append(pid)
+                todo += [c for c, p in parents.items() if p == pid and alive(c)]
         return found
+
+    def watch(self, pid, remove=None, poll=0.5):
+        """Stops the cluster (and removes `remove`) once process `pid` is gone, unless it was
+        stopped first.  For a test that may be SIGKILLed: CTest kills a test that runs too
+        long with its process tree, and a job step in flight outlives the daemons."""
+        child = os.fork()
+        if child:
+            os.waitpid(child, 0)  # it exits at once, leaving the watcher outside our process tree
+            return
+        os.setsid()
+        if os.fork():
+            os._exit(0)
+        # Not the caller's output: whoever reads it (CTest) would wait for the watcher too.
+        null = os.open(os.devnull, os.O_RDWR)
+        for fd in (0, 1, 2):
+            os.dup2(null, fd)
+        try:
+            while alive(pid) and os.path.exists(self.pid_file):
+                time.sleep(poll)
+            if os.path.exists(self.pid_file) or self.strays():
+                self.stop()
+            if remove and not alive(pid):
+                shutil.rmtree(remove, True)
+        finally:
+            os._exit(0)
 
     def stop(self, grace=10):
         """Cancels the jobs, then stops slurmd, the job steps left, slurmctld and munged by pid."""
@@ -310,32 +380,15 @@ PartitionName={PARTITION} Nodes={self.node} Default=YES MaxTime=INFINITE State=U
                         time.sleep(0.2)
             except subprocess.TimeoutExpired:
                 pass  # the daemons go anyway
-        order = [("slurmd", running.get("slurmd"))] + [("slurmstepd", p) for p in self.strays()] + \
-                [(n, running.get(n)) for n in ("slurmctld", "munged")]
-        left = []
-        for name, pid in order:
-            if pid is None:
-                continue
-            for sig in (signal.SIGTERM, signal.SIGKILL):
-                try:
-                    os.kill(pid, sig)
-                except ProcessLookupError:
-                    break
-                end = time.monotonic() + grace
-                while alive(pid) and time.monotonic() < end:
-                    reap(pid)
-                    time.sleep(0.1)
-                reap(pid)
-                if not alive(pid):
-                    break
-            if alive(pid):
-                left.append(f"{name} {pid}")
+        left = terminate([p for p in [running.get("slurmd")] if p], grace)
+        left += terminate(self.strays(), min(grace, 3))  # slurmstepd waits long on SIGTERM
+        left += terminate([p for p in (running.get("slurmctld"), running.get("munged")) if p], grace)
         stopped = self.pids
         self.pids = {}
         if os.path.exists(self.pid_file):
             os.remove(self.pid_file)
         if left:
-            raise ClusterError(f"still running after SIGKILL: {', '.join(left)}")
+            raise ClusterError(f"still running after SIGKILL: {', '.join(f'{process_name(p)} {p}' for p in left)}")
         return stopped
 
 

@@ -16,8 +16,9 @@ directory, then
 - stops every daemon by its pid, on every exit path, and checks that none is left.
 
 A cluster that cannot start (not root, packages missing, a port taken) is one line on
-stderr and exit status 1.  Nothing waits without a limit: every command has a timeout and
-the daemons die with this process if it is killed.
+stderr and exit status 1.  Nothing waits without a limit: every command has a timeout.  If
+this process is killed outright (CTest's timeout), the daemons die with it and a watcher
+outside its process tree stops the job steps left and removes the scratch directory.
 
 Usage: test_slurm_local.py --bin-dir BUILD/bin [unittest options]
 """
@@ -79,7 +80,7 @@ def wait_for_jobs(ids, limit):
 
 def job_fields(job_id):
     text = slurm("scontrol", "show", "job", job_id).stdout
-    return dict(re.findall(r"(\w+)=(\S+)", text))
+    return dict(re.findall(r"([\w/:]+)=(\S*)", text))
 
 
 class CampaignUnderSlurm(unittest.TestCase):
@@ -115,12 +116,11 @@ class CampaignUnderSlurm(unittest.TestCase):
         self.assertEqual(len(self.jobs), 3, self.jobs)  # flat 1 and 2 ranks, hybrid 1 rank
         for job_id, (script, ranks, threads, out) in self.jobs.items():
             with self.subTest(job=job_id, script=script):
-                f = job_fields(job_id)
-                self.assertEqual((f.get("JobState"), f.get("ExitCode")), ("COMPLETED", "0:0"),
-                                 open(os.path.join(out, f"{script[:-7]}-{job_id}.out")).read()[-3000:])
-                self.assertEqual((int(f["NumTasks"]), int(f["CPUs/Task"])), (ranks, threads))
                 with open(os.path.join(out, f"{script[:-7]}-{job_id}.out")) as log:
                     text = log.read()
+                f = job_fields(job_id)
+                self.assertEqual((f.get("JobState"), f.get("ExitCode")), ("COMPLETED", "0:0"), text[-3000:])
+                self.assertEqual((int(f["NumTasks"]), int(f["CPUs/Task"])), (ranks, threads))
                 self.assertEqual(text.count("+ srun --mpi=pmix "), 2, text)  # acm-sync, sor-async-1e-3
                 self.assertEqual(len(re.findall(r"(?m)^validation: .*: SUCCESSFUL$", text)), 2, text)
 
@@ -180,7 +180,7 @@ class CampaignUnderSlurm(unittest.TestCase):
 
 def job_fields_node():
     text = slurm("scontrol", "show", "node", Context.cluster.node).stdout
-    return dict(re.findall(r"(\w+)=(\S+)", text))
+    return dict(re.findall(r"([\w/:]+)=(\S*)", text))
 
 
 def main(argv):
@@ -195,6 +195,7 @@ def main(argv):
     for sig in (signal.SIGTERM, signal.SIGINT, signal.SIGHUP):
         signal.signal(sig, lambda s, _f: sys.exit(128 + s))
     Context.work = tempfile.mkdtemp(prefix="efsi-slurm-test-")
+    os.chmod(Context.work, 0o755)  # munged: every directory above its socket searchable by all
     cluster = local_cluster.LocalCluster(os.path.join(Context.work, "cluster"), die_with_parent=True)
     ok = False
     try:
@@ -204,6 +205,7 @@ def main(argv):
             print(f"{PROG}: the local SLURM cluster did not start: {e}", file=sys.stderr)
             return 1
         Context.cluster = cluster
+        cluster.watch(os.getpid(), remove=Context.work)  # for a SIGKILL, which skips the finally
         ok = unittest.main(argv=[PROG] + argv[1:], exit=False).result.wasSuccessful()
     finally:
         started = dict(cluster.pids)
@@ -213,7 +215,7 @@ def main(argv):
             print(f"{PROG}: {e}", file=sys.stderr)
             ok = False
         left = [f"{n} {p}" for n, p in started.items() if local_cluster.alive(p)] + \
-               [f"slurmstepd {p}" for p in cluster.strays()]
+               [f"job step {p}" for p in cluster.strays()]
         if left:
             print(f"{PROG}: daemons still running after stop: {', '.join(left)}", file=sys.stderr)
             ok = False

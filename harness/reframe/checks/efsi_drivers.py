@@ -21,6 +21,7 @@ import os
 
 import reframe as rfm
 import reframe.utility.sanity as sn
+import reframe.utility.typecheck as typ
 from reframe.core.builtins import parameter, performance_function, run_after, run_before, sanity_function, variable
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -69,7 +70,7 @@ class EfsiDriverCheck(rfm.RunOnlyRegressionTest):
     ranks = variable(int, value=2)
     threads = variable(int, value=1)
     # false: report the figures without judging them (the CTest run on a loaded machine).
-    use_references = variable(bool, value=True)
+    use_references = variable(typ.Bool, value=True)  # bool would take "false" as true
     valid_systems = ["*"]
     valid_prog_environs = ["*"]
     time_limit = "10m"
