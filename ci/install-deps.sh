@@ -12,6 +12,8 @@ packages=(
   valgrind                           # the CI gate's counted work (callgrind)
   python3 python3-matplotlib         # plots (Debian's python3 at /usr/bin/python3)
   jube                               # cluster benchmark definitions
+  slurmctld slurmd slurm-client munge  # the local one-node SLURM cluster (harness/slurm-local)
+  python3-venv                       # the ReFrame venv (harness/reframe/setup-venv.sh)
 )
 
 missing=()

@@ -146,11 +146,28 @@ def bin_dir(args, check=True):
 
 # --- local: run here through mpirun (or srun inside an allocation) ----------------------------
 
-def launcher_command(launcher, ranks, threads, cores, bind):
+def srun_prefix(ranks, threads, mpi, per_node=None):
+    """srun for one run inside an allocation.  --mpi names the PMI the MPI library starts
+    through: plain srun leaves it to the site's MpiDefault, and with Debian's SLURM (MpiDefault
+    none) and Open MPI (no SLURM PMI-1/PMI-2) every rank then starts as its own 1-rank job."""
+    cmd = ["srun", f"--mpi={mpi}", f"--ntasks={ranks}"]
+    if per_node:
+        cmd.append(f"--ntasks-per-node={per_node}")
+    return cmd + [f"--cpus-per-task={threads}", "--cpu-bind=cores"]
+
+
+def mpirun_in_allocation(ranks, threads, per_node):
+    """mpirun inside an allocation: Open MPI reads the nodes from SLURM and starts its daemons
+    with srun; --map-by places the ranks as sbatch asked and gives each its threads' cores."""
+    pe = f":PE={threads}" if threads > 1 else ""
+    return ["mpirun", "-n", str(ranks), "--map-by", f"ppr:{per_node}:node{pe}", "--bind-to", "core"]
+
+
+def launcher_command(launcher, ranks, threads, cores, bind, srun_mpi="pmix"):
     """The launch prefix and whether the run is oversubscribed (more threads than cores)."""
     over = ranks * threads > cores
     if launcher == "srun":
-        return ["srun", f"--ntasks={ranks}", f"--cpus-per-task={threads}", "--cpu-bind=cores"], over
+        return srun_prefix(ranks, threads, srun_mpi), over
     cmd = [launcher, "-n", str(ranks)]
     if over:
         cmd += ["--oversubscribe", "--bind-to", "none"]
@@ -181,7 +198,8 @@ def cmd_local(args):
     extra = {s.name: size_options(args, s) for s in selected_sweeps(args)}
     failed = 0
     for n, (sweep, (rep, ranks, config)) in enumerate(runs, 1):
-        prefix, over = launcher_command(args.launcher, ranks, args.threads, args.cores, not args.no_bind)
+        prefix, over = launcher_command(args.launcher, ranks, args.threads, args.cores, not args.no_bind,
+                                        args.srun_mpi)
         drv = sweeps.driver_command(sweep, config, extra[sweep.name], csv_path)
         cmd = prefix + [os.path.join(d, drv[0])] + drv[1:]
         run_env = unbound_env if over or args.no_bind else bound_env
@@ -216,7 +234,7 @@ def cmd_local(args):
 DEFAULT_TIME = {"weak_scaling": "00:30:00", "strong_scaling": "02:00:00"}
 
 
-def slurm_script(sweep, ranks, configs, args, d, csv_path, extra, cmdline):
+def slurm_script(sweep, ranks, configs, args, d, extra, cmdline):
     rpn = args.ranks_per_node or max(1, args.cores_per_node // args.cpus_per_task)
     nodes = math.ceil(ranks / rpn)
     per_node = min(ranks, rpn)
@@ -239,6 +257,7 @@ def slurm_script(sweep, ranks, configs, args, d, csv_path, extra, cmdline):
         lines.append(f"#SBATCH --partition={args.partition}")
     if args.qos:
         lines.append(f"#SBATCH --qos={args.qos}")
+    rows = shlex.quote(os.path.abspath(args.rows_dir)) if args.rows_dir else '"${SLURM_SUBMIT_DIR:-$PWD}/rows"'
     lines += [
         f"# EFSI-Bench {sweep.name} sweep ({sweep.description}): {ranks} ranks x "
         f"{args.cpus_per_task} threads on {nodes} node(s), {len(configs)} configuration(s) x {args.repeats} repeat(s).",
@@ -250,8 +269,11 @@ def slurm_script(sweep, ranks, configs, args, d, csv_path, extra, cmdline):
         "# Slurm 22.05 and later no longer pass --cpus-per-task from sbatch to srun.",
         f"export SRUN_CPUS_PER_TASK={args.cpus_per_task}",
         f"BIN={shlex.quote(d)}",
-        f"CSV={shlex.quote(csv_path)}",
-        'mkdir -p "$(dirname "$CSV")"',
+        "# One CSV per job, so that no two jobs ever append to the same file on a shared file",
+        "# system; `campaign.py collect` gathers them.",
+        f"ROWS={rows}",
+        f'CSV="$ROWS/{name}-${{SLURM_JOB_ID:-nojob}}.csv"',
+        'mkdir -p "$ROWS"',
         "status=0",
         'run() { echo "+ $*"; "$@" || { echo "failed with status $?: $*" >&2; status=1; }; }',
     ]
@@ -260,16 +282,33 @@ def slurm_script(sweep, ranks, configs, args, d, csv_path, extra, cmdline):
                                                        dict(zip(sweep.driver_options[::2], sweep.driver_options[1::2])).get("--scale", "1"))
         lines.append(f'# Decomposition, local block and memory per rank, before anything is allocated:')
         lines.append(f'run "$BIN/strong_scaling" --dry-run --ranks {ranks} --scale {scale}')
-    srun = (f"srun --ntasks={ranks} --ntasks-per-node={per_node} --cpus-per-task={args.cpus_per_task} "
-            "--cpu-bind=cores")
+    if args.launcher == "srun":
+        launch = shlex.join(srun_prefix(ranks, args.cpus_per_task, args.srun_mpi, per_node))
+    else:
+        launch = shlex.join(mpirun_in_allocation(ranks, args.cpus_per_task, per_node))
     for rep in range(args.repeats):
         for config in configs:
             drv = sweeps.driver_command(sweep, config, extra)
             body = " ".join(shlex.quote(a) for a in drv[1:])
-            lines.append(f'run {srun} "$BIN/{drv[0]}" {body} --csv "$CSV"'
+            lines.append(f'run {launch} "$BIN/{drv[0]}" {body} --csv "$CSV"'
                          f"  # {config.name}, repeat {rep + 1}")
     lines.append("exit $status")
     return name, nodes, "\n".join(lines) + "\n"
+
+
+SUBMIT_ALL = """\
+#!/bin/bash
+# Submits every job of this campaign (options are passed to each sbatch) and appends
+# "JOBID SCRIPT" to submitted.txt; each job writes its rows to rows/NAME-JOBID.csv.
+set -euo pipefail
+cd "$(dirname "$0")"
+for script in {scripts}; do
+  id=$(sbatch --parsable "$@" "$script")
+  id=${{id%%;*}}
+  echo "$id $script" >> submitted.txt
+  echo "submitted $script as job $id"
+done
+"""
 
 
 def cmd_slurm(args):
@@ -283,26 +322,23 @@ def cmd_slurm(args):
     extras = {s.name: size_options(args, s) for s in selected_sweeps(args)}  # checked before writing
     os.makedirs(out, exist_ok=True)
     cmdline = shlex.join([PROG] + sys.argv[1:])
-    manifest = [("script", "sweep", "driver", "ranks", "nodes", "cpus_per_task", "configs", "repeats", "csv")]
+    manifest = [("script", "sweep", "driver", "ranks", "nodes", "cpus_per_task", "configs", "repeats", "rows")]
     names = []
     for sweep in selected_sweeps(args):
         extra = extras[sweep.name]
-        csv_path = os.path.abspath(args.csv) if args.csv else os.path.join(out, f"results-{sweep.name}.csv")
         configs = args.configs or sweep.configs
         for ranks in args.ranks or sweep.ranks:
-            name, nodes, text = slurm_script(sweep, ranks, configs, args, d, csv_path, extra, cmdline)
+            name, nodes, text = slurm_script(sweep, ranks, configs, args, d, extra, cmdline)
             path = os.path.join(out, name + ".sbatch")
             with open(path, "w") as f:
                 f.write(text)
             os.chmod(path, 0o755)
             names.append(name + ".sbatch")
+            rows = os.path.join(os.path.abspath(args.rows_dir) if args.rows_dir else "rows", f"{name}-JOBID.csv")
             manifest.append((name + ".sbatch", sweep.name, sweep.driver, ranks, nodes, args.cpus_per_task,
-                             " ".join(c.name for c in configs), args.repeats, csv_path))
+                             " ".join(c.name for c in configs), args.repeats, rows))
     with open(os.path.join(out, "submit_all.sh"), "w") as f:
-        f.write("#!/bin/bash\n# Submits every job of this campaign; each appends its rows to the CSV "
-                "named in it.\nset -e\ncd \"$(dirname \"$0\")\"\n")
-        for n in names:
-            f.write(f"sbatch {n}\n")
+        f.write(SUBMIT_ALL.format(scripts=" ".join(names)))
     os.chmod(os.path.join(out, "submit_all.sh"), 0o755)
     with open(os.path.join(out, "manifest.csv"), "w", newline="") as f:
         csv.writer(f).writerows(manifest)
@@ -353,6 +389,12 @@ def cmd_collect(args):
 
 # --- command line ---------------------------------------------------------------------------
 
+def add_srun_mpi_option(p):
+    p.add_argument("--srun-mpi", type=slurm_name, default="pmix",
+                   help="srun --mpi=TYPE: the PMI the MPI library starts through (default pmix; "
+                        "`srun --mpi=list` shows a site's)")
+
+
 def build_parser():
     p = OneLineParser(prog=PROG, description=__doc__.split("\n\n")[0])
     sub = p.add_subparsers(dest="command", parser_class=OneLineParser, metavar="{local,slurm,list,collect}")
@@ -366,6 +408,7 @@ def build_parser():
                     help="cores on this machine; more ranks x threads are run oversubscribed (default: all)")
     lo.add_argument("--launcher", default="mpirun",
                     help="mpirun (default), mpiexec, another mpirun by path, or srun inside an allocation")
+    add_srun_mpi_option(lo)
     lo.add_argument("--no-bind", action="store_true", help="do not bind ranks to cores")
     lo.add_argument("--timeout", type=positive_int, default=3600, help="seconds one run may take (default 3600)")
     lo.add_argument("--dry-run", action="store_true", help="print the commands, run nothing")
@@ -374,7 +417,11 @@ def build_parser():
     sl = sub.add_parser("slurm", help="write SLURM batch scripts (one job per rank count)")
     add_sweep_options(sl, ["weak", "strong"])
     sl.add_argument("--out", required=True, help="directory for the scripts")
-    sl.add_argument("--csv", help="result CSV on the cluster (default OUT/results-SWEEP.csv)")
+    sl.add_argument("--rows-dir", help="where each job writes its CSV, NAME-JOBID.csv (default: rows/ beside "
+                                       "the job's output, in the directory sbatch was run from)")
+    sl.add_argument("--launcher", choices=("srun", "mpirun"), default="srun",
+                    help="srun (default) or Open MPI's mpirun inside the allocation")
+    add_srun_mpi_option(sl)
     sl.add_argument("--cores-per-node", type=positive_int, default=8,
                     help="cores per node (default 8, as on the paper's RICC nodes)")
     sl.add_argument("--cpus-per-task", type=positive_int, default=1, help="OpenMP threads per rank (default 1)")

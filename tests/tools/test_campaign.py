@@ -6,7 +6,9 @@
   limit, every configuration once per repeat, the paper's rank counts (weak 1..8192, strong
   1024..8192 at --scale 1).
 - One generated script is run for real, through a stand-in `srun` that starts mpirun: the
-  options it hands the driver are accepted and the row lands in the CSV.
+  options it hands the driver are accepted and the row lands in the job's CSV under rows/.
+  (test_slurm_local.py submits them to a real SLURM.)
+- `--launcher mpirun` places ranks and threads per node as sbatch asked them.
 - `local` runs the driver through mpirun and appends a valid row; --dry-run marks
   oversubscribed launches.
 - Bad options give one line on stderr and exit status 2, and write nothing.
@@ -97,6 +99,8 @@ class SlurmScripts(unittest.TestCase):
         runs = [l for l in text.splitlines() if l.startswith("run srun ")]
         self.assertEqual(len(runs), len(configs) * repeats, path)
         for line in runs:
+            # Open MPI starts under srun only through a PMI that the site's MpiDefault may not name.
+            self.assertTrue(line.startswith("run srun --mpi=pmix "), line)
             self.assertIn(f"--ntasks={ranks} ", line)
             self.assertIn(f"--cpus-per-task={cpus} ", line)
             self.assertIn(f'"$BIN/{driver}"', line)
@@ -130,12 +134,16 @@ class SlurmScripts(unittest.TestCase):
         with open(os.path.join(out, "submit_all.sh")) as f:
             submit = f.read()
         self.assertEqual(subprocess.run(["bash", "-n", os.path.join(out, "submit_all.sh")]).returncode, 0)
-        self.assertEqual(sorted(re.findall(r"(?m)^sbatch (\S+)$", submit)), scripts)
+        listed = re.findall(r"(?m)^for script in (.*); do$", submit)
+        self.assertEqual(len(listed), 1, submit)
+        self.assertEqual(sorted(listed[0].split()), scripts)
+        self.assertIn('sbatch --parsable "$@" "$script"', submit)
         with open(os.path.join(out, "manifest.csv")) as f:
             manifest = list(csv.DictReader(f))
         self.assertEqual(sorted(m["script"] for m in manifest), scripts)
         m8192 = next(m for m in manifest if m["script"] == "efsi-weak-08192.sbatch")
         self.assertEqual((m8192["ranks"], m8192["nodes"]), ("8192", "1024"))
+        self.assertEqual(m8192["rows"], "rows/efsi-weak-08192-JOBID.csv")
 
     def test_hybrid_runs_ask_for_threads(self):
         out, scripts = self.generate("--sweep", "weak", "--ranks", "1,12,13,8192", "--cores-per-node", "48",
@@ -145,6 +153,20 @@ class SlurmScripts(unittest.TestCase):
         for r in (1, 12, 13, 8192):
             self.check_script(os.path.join(out, f"efsi-weak-{r:05d}.sbatch"), r, 4, 48, "weak_scaling",
                               ["acm-sync", "sor-async-1e-4"], repeats=2, time="01:15:00")
+
+    def test_mpirun_inside_the_allocation(self):
+        out, scripts = self.generate("--sweep", "weak", "--ranks", "1,16", "--cores-per-node", "8",
+                                     "--cpus-per-task", "2", "--launcher", "mpirun", "--configs", "acm-sync",
+                                     "--rows-dir", "/scratch/efsi/rows")
+        with open(os.path.join(out, "efsi-weak-00016.sbatch")) as f:
+            text = f.read()
+        self.assertEqual(sbatch_options(text)["ntasks-per-node"], "4")
+        self.assertIn('run mpirun -n 16 --map-by ppr:4:node:PE=2 --bind-to core "$BIN/weak_scaling" '
+                      '--method acm --comm sync --csv "$CSV"', text)
+        self.assertNotIn("run srun", text)
+        self.assertIn("ROWS=/scratch/efsi/rows\n", text)
+        with open(os.path.join(out, "efsi-weak-00001.sbatch")) as f:
+            self.assertIn("run mpirun -n 1 --map-by ppr:1:node:PE=2 --bind-to core ", f.read())
 
     def test_a_generated_script_runs_through_srun(self):
         """The script as a cluster would run it; `srun` here is a stand-in that starts mpirun."""
@@ -163,7 +185,9 @@ class SlurmScripts(unittest.TestCase):
         job = subprocess.run(["bash", os.path.join(out, "efsi-mini-00002.sbatch")], capture_output=True, text=True,
                              env=env, timeout=300, cwd=work)
         self.assertEqual(job.returncode, 0, job.stdout + job.stderr)
-        row = only_row(self, os.path.join(out, "results-mini.csv"))
+        self.assertIn("--mpi=pmix", job.stdout)
+        # Outside SLURM the job's CSV is named for no job, in rows/ of the directory it ran in.
+        row = only_row(self, os.path.join(work, "rows", "efsi-mini-00002-nojob.csv"))
         self.assertEqual((row["experiment"], row["method"], row["ranks"], row["steps"], row["threads"], row["valid"]),
                          ("weak", "acm", "2", "2", "1", "1"))
 
@@ -211,6 +235,8 @@ class Errors(unittest.TestCase):
         (["slurm", "--out", "{out}", "--cpus-per-task", "16"], "exceeds --cores-per-node 8"),
         (["slurm", "--out", "{out}", "--ranks-per-node", "8", "--cpus-per-task", "2"], "exceeds"),
         (["slurm", "--out", "{out}", "--account", "a b"], "a b"),
+        (["slurm", "--out", "{out}", "--srun-mpi", "pmix;rm"], "pmix;rm"),
+        (["slurm", "--out", "{out}", "--launcher", "aprun"], "aprun"),
         (["slurm", "--out", "{out}", "--sweep", "huge"], "huge"),
         (["slurm", "--out", "{out}", "--sweep", "strong", "--local", "32"], "does not apply"),
         (["slurm", "--out", "{out}", "--frobnicate"], "--frobnicate"),
