@@ -130,9 +130,10 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       std::printf(
           "warning: ranks x threads exceed the cores of a node: timings not representative, the row is "
           "marked oversubscribed and not valid\n");
-    std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up\n",
+    std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g (%s), %ld steps + 1 warm-up\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
-                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured);
+                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt,
+                find_integrator(c.solver.integrator).description.c_str(), measured);
     std::string sweeps;
     if (c.method == PressureKind::sor) sweeps = "N_S = " + std::to_string(c.sor_sweeps) + " SOR sweeps per step";
     if (c.solver.cn_sweeps > 0)
@@ -227,6 +228,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       r.div_rms = tail.back().div_rms;
       r.valid = v.valid;
       r.layout = layout;
+      r.integrator = c.solver.integrator;
       append_csv(req.csv, r);
     }
   }

@@ -20,6 +20,9 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
                  "Crank-Nicolson stress sweeps per step N_C (0: explicit Euler; default 20 for sor, 0 otherwise)");
   app.add_option("--dt", o.dt, "time step (default: " + dt_help + ")");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");
+  std::string names;
+  for (const Integrator& i : integrators()) names += (names.empty() ? "" : " | ") + i.name;
+  app.add_option("--integrator", o.integrator, "time integrator: " + names)->capture_default_str();
 }
 
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating) {
@@ -41,6 +44,7 @@ void apply_method_options(const MethodOptions& o, ChannelCase& c, double default
   if (o.threads < 0)
     throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
   set_threads(o.threads);
+  c.solver.integrator = find_integrator(o.integrator).name;
   // The paper's SOR path treats the stress by Crank-Nicolson with N_C = 20; ACM and the
   // FFT reference are explicit unless --nc asks otherwise.
   c.solver.cn_sweeps = o.nc.value_or(c.method == PressureKind::sor ? 20 : 0);

@@ -11,13 +11,13 @@
 namespace efsi {
 
 struct MethodOptions {
-  std::string method = "acm", comm = "sync";
+  std::string method = "acm", comm = "sync", integrator = "euler";
   std::optional<double> eps, dt;
   std::optional<int> ns, nc;
   int threads = 0;
 };
 
-// --method, --comm, --eps, --ns, --nc, --dt, --threads. `dt_help` names the default.
+// --method, --comm, --eps, --ns, --nc, --dt, --threads, --integrator. `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);
 
 // Checks the values and fills c.method, c.solver.comm, c.solver.cn_sweeps (default 20 for

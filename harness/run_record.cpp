@@ -96,7 +96,8 @@ const std::vector<std::string>& csv_columns() {
                                                 "omp_num_threads",
                                                 "omp_places",
                                                 "omp_proc_bind",
-                                                "cores"};
+                                                "cores",
+                                                "integrator"};
   return cols;
 }
 
@@ -116,7 +117,7 @@ std::string csv_row(const RunRecord& r) {
     << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
     << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
-    << ',' << clean(r.layout.cores) << '\n';
+    << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << '\n';
   return o.str();
 }
 

@@ -19,6 +19,7 @@ struct RunRecord {
   long particles = 0, steps = 0;
   double dt = 0;
   std::string ns_per_step, nc_per_step;  // empty where they do not apply
+  std::string integrator = "euler";
   TimerReport timing;
   double div_rms = 0;
   bool valid = false;
@@ -26,7 +27,7 @@ struct RunRecord {
 };
 
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
-// omp_places, omp_proc_bind, cores (hybrid_layout.hpp).
+// omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator.
 const std::vector<std::string>& csv_columns();
 
 // Fills host, MPI library, compiler, git revision and UTC timestamp, and formats the row.

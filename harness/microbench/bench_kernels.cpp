@@ -5,8 +5,8 @@
 // (stream_probe.hpp; counters in kernel_timing.hpp):
 //
 //   BM_Stress/n               compute_stress, the six deviatoric stress components
-//   BM_MomentumRhs/n          compute_vstar, the unprojected velocity (momentum right-hand side)
-//   BM_Transport/n            compute_transport, WENO5 transport of phi and the six Bt
+//   BM_MomentumRhs/n          momentum_tendency, the momentum right-hand side dv/dt
+//   BM_Transport/n            transport_tendency, WENO5 transport of phi and the six Bt (d/dt)
 //   BM_AcmMoments/n           acm_moments: the ACM's local sums and its MPI_Allreduce of 7
 //   BM_AcmIncrement/n         AcmPressure::increment: the moments, coefficients and the update
 //   BM_SorSweep/{sync,async}/n   one four-colour SOR sweep (time of sweeps(rhs, 10) / 10)
@@ -101,7 +101,7 @@ struct KernelSetup {
     work.div.copy_from(solver.work().div);
     work.dp.copy_from(solver.work().dp);
     const KernelBoxes full = full_boxes(ch.dec->local());
-    compute_stress(state(), physics(), work.tau, full.stress_centres, full.stress_edges);
+    compute_stress(state().fields(), physics(), work.tau, full.stress_centres, full.stress_edges);
   }
   FsiState& state() { return ch.solver->state(); }
   const Physics& physics() const { return ch.c.solver.physics; }
@@ -137,7 +137,7 @@ void BM_Stress(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
   bench::time_kernel(state, k.cost(bench::kStress), 1, [&] {
-    compute_stress(k.state(), k.physics(), k.work.tau, full.stress_centres, full.stress_edges);
+    compute_stress(k.state().fields(), k.physics(), k.work.tau, full.stress_centres, full.stress_edges);
   });
 }
 
@@ -146,7 +146,7 @@ void BM_MomentumRhs(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
   bench::time_kernel(state, k.cost(bench::kMomentum), 1, [&] {
-    compute_vstar(k.state(), k.physics(), k.work.tau, k.dt(), k.work.vstar, full.momentum);
+    momentum_tendency(k.state().fields(), k.physics(), k.work.tau, k.work.vstar, full.momentum);
   });
 }
 
@@ -155,7 +155,7 @@ void BM_Transport(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
   bench::time_kernel(state, k.cost(bench::kTransport), 1, [&] {
-    compute_transport(k.state(), k.dt(), k.work.phi_new, k.work.B_new, full.transport);
+    transport_tendency(k.state().fields(), k.work.phi_new, k.work.B_new, full.transport);
   });
 }
 

@@ -19,13 +19,13 @@ inline double sqrt_phi(double phi) { return std::sqrt(std::max(phi, 0.0)); }
 
 // L_AM = d v_A / d x_M at its own location, tensor_location(A, M).
 template <int A, int M>
-inline double grad_v(const FsiState& s, const InverseSpacing& inv, int i, int j, int k) {
+inline double grad_v(const FieldSet& s, const InverseSpacing& inv, int i, int j, int k) {
   return difference<face_location(A), M>(s.vel(A), i, j, k, inv.h[M]);
 }
 
 // D_AB at tensor_location(A, B).
 template <int A, int B>
-inline double strain_rate(const FsiState& s, const InverseSpacing& inv, int i, int j, int k) {
+inline double strain_rate(const FieldSet& s, const InverseSpacing& inv, int i, int j, int k) {
   if constexpr (A == B) return grad_v<A, A>(s, inv, i, j, k);
   else return 0.5 * (grad_v<A, B>(s, inv, i, j, k) + grad_v<B, A>(s, inv, i, j, k));
 }
@@ -33,7 +33,7 @@ inline double strain_rate(const FsiState& s, const InverseSpacing& inv, int i, i
 // sqrt(phi) (Bt - tr(Bt)/3 I)_AB at tensor_location(A, B); the solid stress is G times
 // this. sqrt(phi) is averaged to the edges from the four surrounding centres.
 template <int A, int B>
-inline double solid_stress_over_G(const FsiState& s, int i, int j, int k) {
+inline double solid_stress_over_G(const FieldSet& s, int i, int j, int k) {
   const Field& phi = s.phi();
   if constexpr (A == B) {
     const double tr = s.B(0)(i, j, k) + s.B(1)(i, j, k) + s.B(2)(i, j, k);

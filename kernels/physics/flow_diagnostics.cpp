@@ -11,7 +11,8 @@
 
 namespace efsi {
 
-FlowDiagnostics flow_diagnostics(const FsiState& s, const Physics& ph) {
+FlowDiagnostics flow_diagnostics(const FsiState& state, const Physics& ph) {
+  const FieldSet s = state.fields();
   const CartDecomposition& dec = s.decomp();
   const Domain& dom = s.domain();
   const InverseSpacing inv(dom);

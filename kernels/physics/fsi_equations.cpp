@@ -42,7 +42,7 @@ void split_wall_rows(const Box& b, int wall_lo, int wall_hi, G&& g) {
 }
 
 template <int A, int B>
-void stress_component(const FsiState& s, const Physics& ph, Field& t, const Box& box) {
+void stress_component(const FieldSet& s, const Physics& ph, Field& t, const Box& box) {
   const Inv inv(s.domain());
   const double two_mu = 2.0 * ph.mu, G = ph.G;
   for_box(box, [&](int i, int j, int k) {
@@ -53,7 +53,7 @@ void stress_component(const FsiState& s, const Physics& ph, Field& t, const Box&
 // Transport velocity v_A (a face quantity) at the edge or centre `E` of the flux through
 // the face of component C along axis A, for the skew-symmetric advection.
 template <int C, int A>
-inline double flux_velocity(const FsiState& s, int i, int j, int k) {
+inline double flux_velocity(const FieldSet& s, int i, int j, int k) {
   const Field& ua = s.vel(A);
   if constexpr (A == C) {  // at the centre i: mean of faces i and i + 1
     constexpr int dx = unit(A, X), dy = unit(A, Y), dz = unit(A, Z);
@@ -65,7 +65,7 @@ inline double flux_velocity(const FsiState& s, int i, int j, int k) {
 }
 
 template <int C, int A>
-inline double advection_term(const FsiState& s, const Inv& inv, int i, int j, int k) {
+inline double advection_term(const FieldSet& s, const Inv& inv, int i, int j, int k) {
   constexpr int ax = unit(A, X), ay = unit(A, Y), az = unit(A, Z);
   const Field& uc = s.vel(C);
   // Centres of flux above and below: for A == C the centres i and i - 1, otherwise the
@@ -93,10 +93,9 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
 }
 
 template <int C>
-void vstar_component(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt, Field& out,
-                     const Box& box) {
+void momentum_component(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau, Field& out,
+                        const Box& box) {
   const Inv inv(s.domain());
-  const Field& uc = s.vel(C);
   const Field& p = s.p();
   constexpr int cx = unit(C, X), cy = unit(C, Y), cz = unit(C, Z);
   const double inv_rho = 1.0 / ph.rho;
@@ -110,7 +109,7 @@ void vstar_component(const FsiState& s, const Physics& ph, const std::array<Fiel
                            stress_divergence_term<C, Y>(tau, inv, i, j, k) +
                            stress_divergence_term<C, Z>(tau, inv, i, j, k);
     const double grad_p = (p(i, j, k) - p(i - cx, j - cy, k - cz)) * inv.h[C];
-    out(i, j, k) = uc(i, j, k) + dt * (-adv + (div_tau - grad_p) * inv_rho + force);
+    out(i, j, k) = -adv + (div_tau - grad_p) * inv_rho + force;
   };
   if constexpr (C == Y) {
     split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
@@ -122,16 +121,9 @@ void vstar_component(const FsiState& s, const Physics& ph, const std::array<Fiel
   }
 }
 
-// Box of cells extended to the owned top wall face for components staggered in y.
-inline Box owned_extent(const Field& q, const Box& cells) {
-  Box box = cells;
-  if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
-  return box;
-}
-
 // v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
 template <Stagger T, int M>
-inline double weno_advection(const FsiState& s, const Inv& inv, const Field& q, int i, int j, int k) {
+inline double weno_advection(const FieldSet& s, const Inv& inv, const Field& q, int i, int j, int k) {
   const double vel = average<face_location(M), T>(s.vel(M), i, j, k);
   const std::ptrdiff_t st = M == X ? 1 : M == Y ? q.stride_y() : q.stride_z();
   const double* c = q.data() + q.index(i, j, k);
@@ -140,7 +132,7 @@ inline double weno_advection(const FsiState& s, const Inv& inv, const Field& q, 
 
 // (L.Bt + Bt.L^T)_AB at tensor_location(A, B), each factor averaged to that location.
 template <int A, int B, int M>
-inline double upper_convected_term(const FsiState& s, const Inv& inv, int i, int j, int k) {
+inline double upper_convected_term(const FieldSet& s, const Inv& inv, int i, int j, int k) {
   constexpr Stagger T = tensor_location(A, B);
   auto L = [&](auto a_tag, auto m_tag) {
     constexpr int a = decltype(a_tag)::value, m = decltype(m_tag)::value;
@@ -156,7 +148,7 @@ inline double upper_convected_term(const FsiState& s, const Inv& inv, int i, int
 }
 
 template <int A, int B>
-void transport_component(const FsiState& s, double dt, Field& out, const Box& cells) {
+void transport_component(const FieldSet& s, Field& out, const Box& cells) {
   const Inv inv(s.domain());
   constexpr Stagger T = tensor_location(A, B);
   const Field& q = s.B(A, B);
@@ -169,7 +161,7 @@ void transport_component(const FsiState& s, double dt, Field& out, const Box& ce
       if constexpr (decltype(with_y)::value) adv += weno_advection<T, Y>(s, inv, q, i, j, k);
       const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) +
                         upper_convected_term<A, B, Y>(s, inv, i, j, k) + upper_convected_term<A, B, Z>(s, inv, i, j, k);
-      out(i, j, k) = q(i, j, k) + dt * (uc - adv);
+      out(i, j, k) = uc - adv;
     };
   };
   if constexpr (is_staggered(T, Y)) {
@@ -185,7 +177,7 @@ void transport_component(const FsiState& s, double dt, Field& out, const Box& ce
 
 
 template <int A, int B>
-void stretching_component(const FsiState& s, double dt, const Field& base, Field& out, const Box& cells) {
+void stretching_component(const FieldSet& s, double dt, const Field& base, Field& out, const Box& cells) {
   const Inv inv(s.domain());
   for_box(owned_extent(out, cells), [&](int i, int j, int k) {
     const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) + upper_convected_term<A, B, Y>(s, inv, i, j, k) +
@@ -196,7 +188,7 @@ void stretching_component(const FsiState& s, double dt, const Field& base, Field
 
 template <int C>
 void stress_difference_component(const std::array<Field, 6>& tau_a, const std::array<Field, 6>& tau_b,
-                                 const FsiState& s, double c, const Field& base, Field& out, const Box& box) {
+                                 const FieldSet& s, double c, const Field& base, Field& out, const Box& box) {
   const Inv inv(s.domain());
   auto body = [&](int i, int j, int k) {
     const double da = stress_divergence_term<C, X>(tau_a, inv, i, j, k) +
@@ -242,7 +234,7 @@ KernelBoxes interior_boxes(const Int3& n) {
   return {{{0, 0, 0}, m1}, {{1, 1, 1}, n}, {{1, 1, 1}, m1}, {{3, 3, 3}, m3}};
 }
 
-void compute_stress(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
+void compute_stress(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
                     const Box& edges) {
   stress_component<0, 0>(s, ph, tau[0], centres);
   stress_component<1, 1>(s, ph, tau[1], centres);
@@ -252,14 +244,14 @@ void compute_stress(const FsiState& s, const Physics& ph, std::array<Field, 6>& 
   stress_component<1, 2>(s, ph, tau[5], edges);
 }
 
-void compute_vstar(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt,
-                   std::array<Field, 3>& vstar, const Box& faces) {
-  vstar_component<X>(s, ph, tau, dt, vstar[0], faces);
-  vstar_component<Y>(s, ph, tau, dt, vstar[1], faces);
-  vstar_component<Z>(s, ph, tau, dt, vstar[2], faces);
+void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
+                       std::array<Field, 3>& dvdt, const Box& faces) {
+  momentum_component<X>(s, ph, tau, dvdt[0], faces);
+  momentum_component<Y>(s, ph, tau, dvdt[1], faces);
+  momentum_component<Z>(s, ph, tau, dvdt[2], faces);
 }
 
-void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<Field, 6>& B_new, const Box& cells) {
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells) {
   {
     const Inv inv(s.domain());
     const Field& phi = s.phi();
@@ -267,22 +259,28 @@ void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<
       const double adv = weno_advection<Stagger::cell, X>(s, inv, phi, i, j, k) +
                          weno_advection<Stagger::cell, Y>(s, inv, phi, i, j, k) +
                          weno_advection<Stagger::cell, Z>(s, inv, phi, i, j, k);
-      phi_new(i, j, k) = phi(i, j, k) - dt * adv;
+      dphidt(i, j, k) = -adv;
     });
   }
-  transport_component<0, 0>(s, dt, B_new[0], cells);
-  transport_component<1, 1>(s, dt, B_new[1], cells);
-  transport_component<2, 2>(s, dt, B_new[2], cells);
-  transport_component<0, 1>(s, dt, B_new[3], cells);
-  transport_component<0, 2>(s, dt, B_new[4], cells);
-  transport_component<1, 2>(s, dt, B_new[5], cells);
+  transport_component<0, 0>(s, dBdt[0], cells);
+  transport_component<1, 1>(s, dBdt[1], cells);
+  transport_component<2, 2>(s, dBdt[2], cells);
+  transport_component<0, 1>(s, dBdt[3], cells);
+  transport_component<0, 2>(s, dBdt[4], cells);
+  transport_component<1, 2>(s, dBdt[5], cells);
+}
+
+Box owned_extent(const Field& q, const Box& cells) {
+  Box box = cells;
+  if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
+  return box;
 }
 
 }  // namespace efsi
 
 namespace efsi {
 
-void compute_stress_owned(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau) {
+void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau) {
   const Box owned{{0, 0, 0}, s.decomp().local()};
   stress_component<0, 0>(s, ph, tau[0], owned);
   stress_component<1, 1>(s, ph, tau[1], owned);
@@ -292,7 +290,7 @@ void compute_stress_owned(const FsiState& s, const Physics& ph, std::array<Field
   stress_component<1, 2>(s, ph, tau[5], owned_extent(tau[5], owned));
 }
 
-void add_stretching(const FsiState& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
+void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
                     const Box& cells) {
   stretching_component<0, 0>(s, dt, base[0], out[0], cells);
   stretching_component<1, 1>(s, dt, base[1], out[1], cells);
@@ -302,7 +300,7 @@ void add_stretching(const FsiState& s, double dt, const std::array<Field, 6>& ba
   stretching_component<1, 2>(s, dt, base[5], out[5], cells);
 }
 
-void add_stress_divergence_difference(const FsiState& s, const std::array<Field, 6>& tau_a,
+void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
                                       const std::array<Field, 6>& tau_b, double c, const std::array<Field, 3>& base,
                                       std::array<Field, 3>& out, const Box& faces) {
   stress_difference_component<X>(tau_a, tau_b, s, c, base[0], out[0], faces);

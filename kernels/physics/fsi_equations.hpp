@@ -30,30 +30,36 @@ KernelBoxes full_boxes(const Int3& n);
 KernelBoxes interior_boxes(const Int3& n);
 
 // tau = 2 mu D + G sqrt(phi) (Bt - tr(Bt)/3 I): diagonal on `centres`, off-diagonal on `edges`.
-void compute_stress(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
+void compute_stress(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
                     const Box& edges);
 
-// v* = v + dt/rho (-grad p - rho v.grad v + div tau + f e_x) on the faces of `faces`
-// (wall faces of v are left at zero). Advection in the skew-symmetric form, which
-// conserves kinetic energy for any velocity field.
-void compute_vstar(const FsiState& s, const Physics& ph, const std::array<Field, 6>& tau, double dt,
-                   std::array<Field, 3>& vstar, const Box& faces);
+// The tendencies: each kernel computes a right-hand side d q / dt, and the integrator
+// (time layer) applies it.
 
-// phi_new = phi - dt v.grad phi; Bt_new = Bt + dt (-v.grad Bt + L.Bt + Bt.L^T) with the
-// WENO5 upwind derivative, on `cells` (extended to the owned top wall face for edge
-// components staggered in y).
-void compute_transport(const FsiState& s, double dt, Field& phi_new, std::array<Field, 6>& B_new, const Box& cells);
+// dv/dt = (-grad p - rho v.grad v + div tau) / rho + f e_x on the faces of `faces` (zero on
+// the wall faces of v, which stay at rest). Advection in the skew-symmetric form, which
+// conserves kinetic energy for any velocity field.
+void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
+                       std::array<Field, 3>& dvdt, const Box& faces);
+
+// dphi/dt = -v.grad phi; dBt/dt = -v.grad Bt + L.Bt + Bt.L^T, with the WENO5 upwind
+// derivative, on `cells` (extended to the owned top wall face for the components staggered
+// in y: owned_extent).
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells);
+
+// `cells` extended to q's owned top wall face when q is staggered in y (field.hpp).
+Box owned_extent(const Field& q, const Box& cells);
 
 // The pieces of the Crank-Nicolson stress iteration (DESIGN.md 3.2), same stencils as above.
 // compute_stress on the owned points of every component (top wall faces included): the
 // iteration exchanges tau instead of computing it on ghosts.
-void compute_stress_owned(const FsiState& s, const Physics& ph, std::array<Field, 6>& tau);
+void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau);
 // out = base + dt (L.Bt + Bt.L^T), L from s's velocity and Bt from s, on `cells` (extended
 // to the owned top wall face like compute_transport).
-void add_stretching(const FsiState& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
+void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
                     const Box& cells);
 // out = base + c (div tau_a - div tau_b) on the faces of `faces` (wall faces of v set to zero).
-void add_stress_divergence_difference(const FsiState& s, const std::array<Field, 6>& tau_a,
+void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
                                       const std::array<Field, 6>& tau_b, double c, const std::array<Field, 3>& base,
                                       std::array<Field, 3>& out, const Box& faces);
 

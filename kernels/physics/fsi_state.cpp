@@ -22,6 +22,23 @@ FsiState::FsiState(const CartDecomposition& decomp, const Domain& domain) : deco
   for (const auto& s : specs) fields_.emplace_back(decomp, s);
 }
 
+FieldSet FieldSet::with_velocity(const std::array<Field, 3>& v) const {
+  FieldSet out = *this;
+  for (int a = 0; a < 3; ++a) out.vel_[a] = &v[a];
+  return out;
+}
+
+FieldSet FieldSet::with_B(const std::array<Field, 6>& b) const {
+  FieldSet out = *this;
+  for (int n = 0; n < 6; ++n) out.B_[n] = &b[n];
+  return out;
+}
+
+FieldSet FsiState::fields() const {
+  return FieldSet(decomp_, domain_, {&vel(X), &vel(Y), &vel(Z)}, &p(), &phi(),
+                  {&B(0), &B(1), &B(2), &B(3), &B(4), &B(5)});
+}
+
 std::vector<Field*> FsiState::all() {
   std::vector<Field*> out;
   for (Field& f : fields_) out.push_back(&f);

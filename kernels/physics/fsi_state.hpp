@@ -31,6 +31,36 @@ constexpr int tensor_index(int a, int b) {
 // The eleven exchanged fields: u, v, w, p (halo 1), phi and six Bt components (halo 3).
 std::vector<FieldSpec> fsi_field_specs();
 
+// The fields an equation reads, by reference: the state's, or an iterate's in their place
+// (Crank-Nicolson evaluates the stress on its iterate (v*, Bt*) this way, with no copy or
+// swap).  Accessors as FsiState's.
+class FieldSet {
+ public:
+  FieldSet(const CartDecomposition& decomp, const Domain& domain, std::array<const Field*, 3> vel, const Field* p,
+           const Field* phi, std::array<const Field*, 6> B)
+      : decomp_(&decomp), domain_(&domain), vel_(vel), p_(p), phi_(phi), B_(B) {}
+
+  const Field& vel(int a) const { return *vel_[a]; }
+  const Field& p() const { return *p_; }
+  const Field& phi() const { return *phi_; }
+  const Field& B(int a, int b) const { return *B_[tensor_index(a, b)]; }
+  const Field& B(int n) const { return *B_[n]; }
+  const Domain& domain() const { return *domain_; }
+  const CartDecomposition& decomp() const { return *decomp_; }
+
+  // The same set with another velocity or another Bt.
+  FieldSet with_velocity(const std::array<Field, 3>& v) const;
+  FieldSet with_B(const std::array<Field, 6>& b) const;
+
+ private:
+  const CartDecomposition* decomp_;
+  const Domain* domain_;
+  std::array<const Field*, 3> vel_;
+  const Field* p_;
+  const Field* phi_;
+  std::array<const Field*, 6> B_;
+};
+
 class FsiState {
  public:
   FsiState(const CartDecomposition& decomp, const Domain& domain);
@@ -47,6 +77,7 @@ class FsiState {
   const Field& B(int n) const { return fields_[5 + n]; }
 
   std::vector<Field*> all();  // in fsi_field_specs() order
+  FieldSet fields() const;
   const Domain& domain() const { return domain_; }
   const CartDecomposition& decomp() const { return decomp_; }
 

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
-#include <utility>
 
 #include "config_error.hpp"
 
@@ -45,7 +44,8 @@ CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWor
                 {&tau_star_[0], &tau_star_[1], &tau_star_[2], &tau_star_[3], &tau_star_[4], &tau_star_[5]},
                 Reach::faces, timers) {}
 
-void CrankNicolsonStress::iterate(FsiState& s, FsiWork& w, const Physics& ph, double dt) {
+void CrankNicolsonStress::iterate(const FsiState& state, FsiWork& w, const Physics& ph, double dt) {
+  const FieldSet s = state.fields();
   const Int3 n = s.decomp().local();
   const Box owned{{0, 0, 0}, n};
   const Box faces = full_boxes(n).momentum;
@@ -60,14 +60,10 @@ void CrankNicolsonStress::iterate(FsiState& s, FsiWork& w, const Physics& ph, do
     v_halo_.exchange();
     {
       RegionTimers::Scope t(timers_, Region::compute);
-      // The stress and stretching kernels read the state: evaluate them on the iterate by
-      // swapping its fields in (buffer swaps, no copies) and back.
-      for (int a = 0; a < 3; ++a) std::swap(s.vel(a), w.vstar[a]);
-      add_stretching(s, dt, b_advected_, b_star_, owned);
-      for (int q = 0; q < 6; ++q) std::swap(s.B(q), b_star_[q]);
-      compute_stress_owned(s, ph, tau_star_);
-      for (int q = 0; q < 6; ++q) std::swap(s.B(q), b_star_[q]);
-      for (int a = 0; a < 3; ++a) std::swap(s.vel(a), w.vstar[a]);
+      // Bt* from Bt^N stretched by the iterate's gradient; tau* from (v*, Bt*) with phi^N.
+      const FieldSet iterate = s.with_velocity(w.vstar);
+      add_stretching(iterate, dt, b_advected_, b_star_, owned);
+      compute_stress_owned(iterate.with_B(b_star_), ph, tau_star_);
     }
     tau_halo_.exchange();
     RegionTimers::Scope t(timers_, Region::compute);

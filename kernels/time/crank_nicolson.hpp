@@ -31,8 +31,8 @@ class CrankNicolsonStress {
   // On entry: work.tau = tau(v^N, Bt^N) wherever div reads it, work.vstar = the explicit v*
   // on the owned faces, work.B_new = the explicitly transported Bt on the owned points,
   // s = the state at step N with current ghosts.  On exit work.vstar holds the iterate
-  // after N_C sweeps with every ghost (26 directions) current; s is unchanged.
-  void iterate(FsiState& s, FsiWork& work, const Physics& ph, double dt);
+  // after N_C sweeps with every ghost (26 directions) current.
+  void iterate(const FsiState& s, FsiWork& work, const Physics& ph, double dt);
 
   int sweeps() const { return sweeps_; }
   // max |change of v*| on this rank in the last sweep (for convergence checks).

@@ -10,22 +10,45 @@ namespace efsi {
 
 FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
                      std::unique_ptr<PressureMethod> pressure)
-    : decomp_(decomp), config_(config), state_(decomp, domain), work_(decomp), pressure_(std::move(pressure)) {
+    : decomp_(decomp),
+      config_(config),
+      integrator_(find_integrator(config.integrator)),
+      state_(decomp, domain),
+      work_(decomp),
+      pressure_(std::move(pressure)) {
   if (config_.divergence_limit <= 0.0)
     config_.divergence_limit =
         0.005 * config_.velocity_limit / std::min({domain.spacing(X), domain.spacing(Y), domain.spacing(Z)});
-  state_halo_ = std::make_unique<HaloExchange>(decomp, state_.all(), Reach::full, &timers_);
-  vstar_halo_ = std::make_unique<HaloExchange>(
-      decomp, std::vector<Field*>{&work_.vstar[0], &work_.vstar[1], &work_.vstar[2]}, Reach::faces, &timers_);
-  div_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work_.div}, Reach::faces, &timers_);
+  for (const StepExchangeSpec& x : kStepExchanges)
+    halos_[static_cast<int>(x.id)] =
+        std::make_unique<HaloExchange>(decomp, step_exchange_fields(x.id, state_, work_), x.reach, &timers_);
   if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_);
+  if (integrator_.stages.size() > 1) start_ = std::make_unique<FsiState>(decomp, domain);
   pressure_->attach(decomp, domain, work_, timers_);
 }
+
+void FsiSolver::post(StepExchange x) {
+  HaloExchange& h = *halos_[static_cast<int>(x)];
+  if (config_.comm == CommMode::sync) {
+    h.exchange();
+  } else {
+    h.begin();
+    pending_[static_cast<int>(x)] = true;
+  }
+}
+
+void FsiSolver::complete(StepExchange x) {
+  if (!in_flight(x)) return;
+  halos_[static_cast<int>(x)]->finish();
+  pending_[static_cast<int>(x)] = false;
+}
+
+void FsiSolver::complete_exchange() { complete(StepExchange::state); }
 
 void FsiSolver::start_from_rest() {
   complete_exchange();
   state_.set_unstrained_rest();
-  state_halo_->exchange();
+  halos_[static_cast<int>(StepExchange::state)]->exchange();
   steps_ = 0;
   time_ = 0.0;
 }
@@ -42,89 +65,104 @@ void FsiSolver::impose_laminar_flow() {
     for (int k = 0; k < n[Z]; ++k)
       for (int i = 0; i < n[X]; ++i) u(i, j, k) = value;
   }
-  state_halo_->exchange();
-}
-
-void FsiSolver::complete_exchange() {
-  if (pending_) {
-    state_halo_->finish();
-    pending_ = false;
-  }
+  halos_[static_cast<int>(StepExchange::state)]->exchange();
 }
 
 void FsiSolver::step() {
+  if (start_) {
+    complete_exchange();
+    const std::vector<Field*> now = state_.all(), start = start_->all();
+    RegionTimers::Scope t(&timers_, Region::compute);
+    for (std::size_t f = 0; f < now.size(); ++f) start[f]->copy_from(*now[f]);
+  }
+  const std::vector<IntegratorStage>& stages = integrator_.stages;
+  SubstepResult r{};
+  for (std::size_t st = 0; st < stages.size(); ++st) {
+    r = euler_substep(stages[st]);
+    if (st + 1 < stages.size()) post(StepExchange::state);  // the next stage reads its ghosts
+  }
+  ++steps_;
+  time_ += config_.dt;
+  // Before the next step's exchange is posted: a blow-up leaves nothing in flight.
+  if (config_.check_every > 0 && steps_ % config_.check_every == 0) check_blow_up(r.umax, r.divmax);
+  post(StepExchange::state);
+}
+
+// The stages of one Euler sub-step, in order.  Where a stage reads ghosts of an exchange
+// still in flight (async), it first does the points that read none (interior_boxes), then
+// the rest once the exchange is complete; with the ghosts current it does all at once.
+FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) {
   const Int3 n = decomp_.local();
   const KernelBoxes full = full_boxes(n);
-  const double dt = config_.dt;
-  const Physics& ph = config_.physics;
+  const bool split = in_flight(StepExchange::state);
+  const KernelBoxes in = split ? interior_boxes(n) : full;
 
-  if (config_.comm == CommMode::async && pending_) {
-    // The last step's exchange is in flight: do everything that reads no ghost.
-    const KernelBoxes in = interior_boxes(n);
-    {
-      RegionTimers::Scope t(&timers_, Region::compute);
-      compute_stress(state_, ph, work_.tau, in.stress_centres, in.stress_edges);
-      compute_vstar(state_, ph, work_.tau, dt, work_.vstar, in.momentum);
-      compute_transport(state_, dt, work_.phi_new, work_.B_new, in.transport);
-    }
-    complete_exchange();
-    {
-      RegionTimers::Scope t(&timers_, Region::compute);
-      for_each_shell_box(full.stress_centres, in.stress_centres,
-                         [&](const Box& b) { compute_stress(state_, ph, work_.tau, b, Box{}); });
-      for_each_shell_box(full.stress_edges, in.stress_edges,
-                         [&](const Box& b) { compute_stress(state_, ph, work_.tau, Box{}, b); });
-      for_each_shell_box(full.momentum, in.momentum,
-                         [&](const Box& b) { compute_vstar(state_, ph, work_.tau, dt, work_.vstar, b); });
-    }
-    vstar_halo_->begin();
-    {
-      RegionTimers::Scope t(&timers_, Region::compute);
-      for_each_shell_box(full.transport, in.transport,
-                         [&](const Box& b) { compute_transport(state_, dt, work_.phi_new, work_.B_new, b); });
-    }
-    vstar_halo_->finish();
-  } else {
-    complete_exchange();
-    {
-      RegionTimers::Scope t(&timers_, Region::compute);
-      compute_stress(state_, ph, work_.tau, full.stress_centres, full.stress_edges);
-      compute_vstar(state_, ph, work_.tau, dt, work_.vstar, full.momentum);
-    }
-    if (config_.comm == CommMode::async) {
-      vstar_halo_->begin();
-      {
-        RegionTimers::Scope t(&timers_, Region::compute);
-        compute_transport(state_, dt, work_.phi_new, work_.B_new, full.transport);
-      }
-      vstar_halo_->finish();
-    } else {
-      RegionTimers::Scope t(&timers_, Region::compute);
-      compute_transport(state_, dt, work_.phi_new, work_.B_new, full.transport);
-    }
-    if (config_.comm == CommMode::sync) vstar_halo_->exchange();
-  }
+  tendencies(in);  // stress, dv/dt, dphi/dt and dBt/dt
+  complete(StepExchange::state);
+  if (split) shell_tendencies(full, in, false);
+  predict(full.momentum);  // v* = v + dt dv/dt
+  post(StepExchange::vstar);
+  if (split) shell_tendencies(full, in, true);
+  advance_solid(full.transport);  // phi, Bt + dt d/dt
+  complete(StepExchange::vstar);
   // Its sweeps exchange v* in all 26 directions, the last one included.
-  if (cn_) cn_->iterate(state_, work_, ph, dt);
+  if (cn_) cn_->iterate(state_, work_, config_.physics, config_.dt);
 
-  const double divmax = compute_divergence();
-  div_halo_->exchange();
-  PressureInputs in{state_, work_, ph, dt, timers_};
-  pressure_->increment(in);
-  const double umax = project();
+  const double divmax = compute_divergence();  // D* = rho div v*
+  post(StepExchange::divergence);
+  complete(StepExchange::divergence);
+  PressureInputs pin{state_, work_, config_.physics, config_.dt, timers_};
+  pressure_->increment(pin);  // dp
+  const double umax = project();  // v = v* - dt/rho grad dp, p += dp
 
   std::swap(state_.phi(), work_.phi_new);
   for (int c = 0; c < 6; ++c) std::swap(state_.B(c), work_.B_new[c]);
-  ++steps_;
-  time_ += dt;
-  if (config_.check_every > 0 && steps_ % config_.check_every == 0) check_blow_up(umax, divmax);
+  blend_with_start(stage);
+  return {umax, divmax};
+}
 
-  if (config_.comm == CommMode::async) {
-    state_halo_->begin();
-    pending_ = true;
-  } else {
-    state_halo_->exchange();
+void FsiSolver::tendencies(const KernelBoxes& b) {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const FieldSet s = state_.fields();
+  compute_stress(s, config_.physics, work_.tau, b.stress_centres, b.stress_edges);
+  momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum);
+  transport_tendency(s, work_.phi_new, work_.B_new, b.transport);
+}
+
+void FsiSolver::shell_tendencies(const KernelBoxes& full, const KernelBoxes& in, bool transport) {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const FieldSet s = state_.fields();
+  const Physics& ph = config_.physics;
+  if (transport) {
+    for_each_shell_box(full.transport, in.transport,
+                       [&](const Box& b) { transport_tendency(s, work_.phi_new, work_.B_new, b); });
+    return;
   }
+  for_each_shell_box(full.stress_centres, in.stress_centres,
+                     [&](const Box& b) { compute_stress(s, ph, work_.tau, b, Box{}); });
+  for_each_shell_box(full.stress_edges, in.stress_edges,
+                     [&](const Box& b) { compute_stress(s, ph, work_.tau, Box{}, b); });
+  for_each_shell_box(full.momentum, in.momentum,
+                     [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b); });
+}
+
+void FsiSolver::predict(const Box& faces) {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  for (int a = 0; a < 3; ++a) apply_tendency(state_.vel(a), config_.dt, work_.vstar[a], faces);
+}
+
+void FsiSolver::advance_solid(const Box& cells) {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  apply_tendency(state_.phi(), config_.dt, work_.phi_new, cells);
+  for (int c = 0; c < 6; ++c)
+    apply_tendency(state_.B(c), config_.dt, work_.B_new[c], owned_extent(work_.B_new[c], cells));
+}
+
+void FsiSolver::blend_with_start(const IntegratorStage& stage) {
+  if (!start_) return;
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const std::vector<Field*> now = state_.all(), start = start_->all();
+  for (std::size_t f = 0; f < now.size(); ++f) blend(*now[f], *start[f], stage);
 }
 
 namespace {

@@ -1,15 +1,20 @@
 #pragma once
-// One explicit step of the FSI equations (DESIGN.md section 3): v*, transport of phi and
-// Bt, then the method's pressure increment and the projection. Only the PressureMethod
-// differs between ACM and the SMAC variants.
+// One step of the FSI equations (docs/numerics.md; its data flow in docs/architecture.md):
+// the integrator's stages, each an Euler sub-step of the projection method (stress,
+// momentum and transport tendencies, v*, D*, the method's pressure increment, projection)
+// blended with the step's start.  Only the PressureMethod differs between ACM and the SMAC
+// variants; only where exchanges complete differs between the halo modes.
+#include <array>
 #include <memory>
+#include <string>
 
 #include "comm_mode.hpp"
-
 #include "crank_nicolson.hpp"
 #include "fsi_equations.hpp"
 #include "halo_exchange.hpp"
+#include "integrator.hpp"
 #include "pressure_method.hpp"
+#include "step_exchanges.hpp"
 #include "stepper.hpp"
 
 namespace efsi {
@@ -28,6 +33,7 @@ struct SolverConfig {
   // 0: explicit Euler for the deviatoric stress (the paper's ACM and FFT reference);
   // N_C > 0: Crank-Nicolson by N_C fixed-point sweeps per step (the paper's SOR path).
   int cn_sweeps = 0;
+  std::string integrator = "euler";  // a row of integrators() (integrator.hpp)
 };
 
 class FsiSolver final : public Stepper {
@@ -56,23 +62,41 @@ class FsiSolver final : public Stepper {
   const PressureMethod& pressure() const { return *pressure_; }
   const FsiWork& work() const { return work_; }  // D* and dp of the last step, for checks
   const CrankNicolsonStress* crank_nicolson() const { return cn_.get(); }  // null: explicit stress
+  const Integrator& integrator() const { return integrator_; }
   // Completes an async exchange in flight so that every ghost is current.
   void complete_exchange();
 
  private:
-  double compute_divergence();  // returns the local max |D*| (inf when non-finite)
-  double project();             // returns the local max |velocity| (inf when non-finite)
+  struct SubstepResult {
+    double umax, divmax;  // local max |velocity| and |D*| (inf when non-finite)
+  };
+  SubstepResult euler_substep(const IntegratorStage& stage);
+  void tendencies(const KernelBoxes& boxes);
+  void shell_tendencies(const KernelBoxes& full, const KernelBoxes& in, bool transport);
+  void predict(const Box& faces);
+  void advance_solid(const Box& cells);
+  double compute_divergence();
+  double project();
+  void blend_with_start(const IntegratorStage& stage);
   void check_blow_up(double local_umax, double local_divmax);
+
+  // The table's exchanges: sync completes one where it is posted, async where the first
+  // stage that reads its ghosts needs them.
+  void post(StepExchange x);
+  void complete(StepExchange x);
+  bool in_flight(StepExchange x) const { return pending_[static_cast<int>(x)]; }
 
   const CartDecomposition& decomp_;
   SolverConfig config_;
+  const Integrator& integrator_;
   FsiState state_;
   FsiWork work_;
   std::unique_ptr<PressureMethod> pressure_;
   RegionTimers timers_;
-  std::unique_ptr<HaloExchange> state_halo_, vstar_halo_, div_halo_;
+  std::array<std::unique_ptr<HaloExchange>, kStepExchanges.size()> halos_;
+  std::array<bool, kStepExchanges.size()> pending_{};
   std::unique_ptr<CrankNicolsonStress> cn_;
-  bool pending_ = false;
+  std::unique_ptr<FsiState> start_;  // u^n, for integrators of more than one stage
   long steps_ = 0;
   double time_ = 0.0;
 };

@@ -39,7 +39,7 @@ FLOAT_COLUMNS = ("dt", "elapsed_s", "compute_s", "halo_s", "reduce_s", "comm_s",
 OPTIONAL_NUMBER_COLUMNS = ("eps", "ns_per_step", "nc_per_step")
 TEXT_COLUMNS = ("host", "mpi", "compiler", "git_sha")
 # The suite's columns after section 8's: the hybrid layout (harness/hybrid_layout.hpp).
-SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores"]
+SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores", "integrator"]
 
 class Result:
     def __init__(self, rc, out, err, timed_out, seconds):
@@ -199,7 +199,7 @@ class DriverTestCase(unittest.TestCase):
         self.assertEqual(header[len(SECTION8_COLUMNS):], SUITE_COLUMNS, "the suite's own columns follow")
 
     def check_row(self, header, row, ranks, threads, cells, steps, particles, comm, dims=None,
-                  experiment="channel", method="acm", dt=1.25e-5, div_rms_max=1e-8):
+                  experiment="channel", method="acm", dt=1.25e-5, div_rms_max=1e-8, integrator="euler"):
         """One CSV row against the launch that wrote it; returns it as a dict of values."""
         self.assertEqual(len(row), len(header), "row %s does not match the header %s" % (row, header))
         r = dict(zip(header, row))
@@ -262,6 +262,7 @@ class DriverTestCase(unittest.TestCase):
         expected_mlups = cells[0] * cells[1] * cells[2] * steps / v["elapsed_s"] / 1e6
         self.assertAlmostEqual(v["mlups"], expected_mlups, delta=1e-6 * expected_mlups)
         self.assertLess(v["div_rms"], div_rms_max, "a few steps from rest keep the velocity divergence-free")
+        self.assertEqual(r["integrator"], integrator)
         # The hybrid layout: the environment the ranks saw, one core list per rank.
         self.assertEqual(r["omp_num_threads"], str(threads))
         self.assertEqual(len(r["cores"].split("/")), ranks, "one core list per rank: %r" % r["cores"])

@@ -57,6 +57,7 @@ class BadInput(ChannelTestCase):
     CASES = [
         (SMALL + ["--no-such-option", "7"], [r"--no-such-option"]),
         (SMALL + ["--method", "foo"], [r"\bfoo\b"]),
+        (SMALL + ["--integrator", "rk4"], [r"\brk4\b", r"euler", r"rk3"]),
         (SMALL + ["--method", "sor", "--eps", "1e-5"], [r"--eps", r"1e-05", r"1e-3", r"1e-4"]),
         (SMALL + ["--method", "sor", "--ns", "0"], [r"--ns", r"\b0\b", r"at least 1"]),
         (SMALL + ["--method", "sor", "--nc", "-1"], [r"--nc", r"-1\b"]),
@@ -245,6 +246,17 @@ class CsvRecord(ChannelTestCase):
                 else:
                     self.assertEqual(r["ns_per_step"], ns)
                 self.assertEqual(r["nc_per_step"], nc)
+
+    def test_integrator_is_recorded(self):
+        for n, (ranks, method, comm) in enumerate([(1, "acm", "sync"), (2, "fft", "async")], start=1):
+            args = WITH_PARTICLES + ["--method", method, "--comm", comm, "--integrator", "rk3", "--dt", "1.25e-5",
+                                     "--csv", "rk3.csv"]
+            with self.subTest(args=" ".join(args), ranks=ranks):
+                res = self.run_ok(args, ranks=ranks)
+                self.assertIn("SSP-RK3", res.out, "the banner names the integrator")
+                _, rows = read_table(self.path("rk3.csv"))
+                self.check_row(rows[0], rows[n], ranks, 1, (32, 32, 32), 3, 2, comm, method=method,
+                               integrator="rk3")
 
     def test_calibrate_prints_the_sweep_counts(self):
         res = self.run_ok(["--cells", "32", "--length", "3.6", "--steps", "5", "--method", "sor", "--calibrate",
