@@ -1,4 +1,4 @@
-// accuracy: the paper's accuracy comparison (section 3.1, DESIGN.md section 5): the same
+// accuracy: the paper's accuracy comparison (section 3.1, docs/numerics.md, "Experiments"): the same
 // case with particles run with ACM and with the exact FFT reference; time series of the
 // energy budget and the particle centroids, final phi fields as VTK image data, and the
 // differences between the two at the end.
@@ -54,9 +54,10 @@ int run(const Options& o) {
   if (o.threads < 0)
     throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
   set_threads(o.threads);
-  std::vector<PressureKind> methods;
+  // Each method with its defaults (the paper's N_C for sor, explicit stress otherwise).
+  std::vector<MethodChoice> methods;
   std::stringstream ss(o.methods);
-  for (std::string m; std::getline(ss, m, ',');) methods.push_back(parse_method(m));
+  for (std::string m; std::getline(ss, m, ',');) methods.push_back(configure_method(m, {}, std::nullopt));
   if (methods.empty()) throw ConfigError("--methods '" + o.methods + "' names no method");
   if (o.cells < 1) throw ConfigError("--cells " + std::to_string(o.cells) + " must be at least 1");
   if (!(o.length > 0)) throw ConfigError("--length " + std::to_string(o.length) + " must be positive");
@@ -80,16 +81,16 @@ int run(const Options& o) {
   // Every method's set-up is checked before the first one runs: a run of hours must not be
   // followed by a configuration error.
   std::vector<std::vector<Particle>> particles;
-  for (PressureKind m : methods) {
-    c.method = m;
+  for (const MethodChoice& m : methods) {
+    choose_method(c, m);
     particles.push_back(validate_case(c, ranks, double(total) * c.solver.dt));
   }
 
   std::vector<RunOutcome> runs;
   std::vector<std::vector<SolidRegion>> regions;
   for (std::size_t k = 0; k < methods.size(); ++k) {
-    c.method = methods[k];
-    const std::string tag = to_string(c.method);
+    choose_method(c, methods[k]);
+    const std::string tag = c.method.name();
     RunRequest req;
     req.program = "accuracy";
     req.experiment = "accuracy";
@@ -123,7 +124,7 @@ int run(const Options& o) {
     std::snprintf(b2, sizeof b2,
                   "%s against %s at t = %.6g: max |phi diff| %.3g; centroids %.3g cells apart at most; relative "
                   "differences K %.3g, I %.3g, eps_s %.3g, eps_f %.3g\n",
-                  to_string(methods[0]), to_string(methods[r]), da.time, phi_diff,
+                  methods[0].name().c_str(), methods[r].name().c_str(), da.time, phi_diff,
                   centroid_mismatch(regions[0], regions[r], c.domain) / c.domain.spacing(X),
                   rel(da.kinetic, db.kinetic), rel(da.input, db.input), rel(da.eps_solid, db.eps_solid),
                   rel(da.eps_fluid, db.eps_fluid));
@@ -143,7 +144,7 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{
-      "The paper's accuracy comparison (section 3.1; DESIGN.md section 5): 16 particles in 7.2^3 on 128^3 "
+      "The paper's accuracy comparison (section 3.1; docs/numerics.md, 'Experiments'): 16 particles in 7.2^3 on 128^3 "
       "cells, G = 50, dt = 5e-4 to t = 20, with ACM and the FFT reference.\nWrites into --out: "
       "series-<method>.csv (energy budget), centroids-<method>.csv, phi-<method>.vti (ParaView) and "
       "comparison.txt. Smaller and shorter runs: --cells, --t-end.",

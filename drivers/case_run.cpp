@@ -124,18 +124,17 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
   if (is_root()) {
     std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s\n",
-                req.program.c_str(), to_string(c.method), to_string(c.solver.comm), ranks,
+                req.program.c_str(), c.method.name().c_str(), to_string(c.solver.comm), ranks,
                 to_string(dec.dims()).c_str(), to_string(dec.local()).c_str(), max_threads(), layout.cores.c_str());
     if (layout.oversubscribed)
       std::printf(
           "warning: ranks x threads exceed the cores of a node: timings not representative, the row is "
           "marked oversubscribed and not valid\n");
-    std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g (%s), %ld steps + 1 warm-up\n",
+    std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up, %s\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
-                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt,
-                find_integrator(c.solver.integrator).description.c_str(), measured);
-    std::string sweeps;
-    if (c.method == PressureKind::sor) sweeps = "N_S = " + std::to_string(c.sor_sweeps) + " SOR sweeps per step";
+                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured,
+                find_integrator(c.solver.integrator).description.c_str());
+    std::string sweeps = c.method.banner;
     if (c.solver.cn_sweeps > 0)
       sweeps += (sweeps.empty() ? "N_C = " : ", N_C = ") + std::to_string(c.solver.cn_sweeps) +
                 " Crank-Nicolson sweeps per step";
@@ -212,9 +211,13 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     if (!req.csv.empty()) {
       RunRecord r;
       r.experiment = req.experiment;
-      r.method = to_string(c.method);
+      r.method = c.method.name();
       r.comm = to_string(c.solver.comm);
-      r.eps = req.eps;
+      const auto cell = [&](const char* key) {
+        const auto it = c.method.report.find(key);
+        return it == c.method.report.end() ? std::string() : it->second;
+      };
+      r.eps = cell("eps");
       r.ranks = ranks;
       r.threads = max_threads();
       r.px = dec.dims()[0], r.py = dec.dims()[1], r.pz = dec.dims()[2];
@@ -222,7 +225,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       r.particles = static_cast<long>(particles.size());
       r.steps = measured;
       r.dt = c.solver.dt;
-      if (c.method == PressureKind::sor) r.ns_per_step = std::to_string(c.sor_sweeps);
+      r.ns_per_step = cell("ns_per_step");
       if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
       r.timing = rep;
       r.div_rms = tail.back().div_rms;
@@ -235,15 +238,14 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   return out;
 }
 
-int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment,
-                     const std::string& eps, long steps, const std::string& csv) {
+int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
+                     const std::string& csv) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   const std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
   RunRequest req;
   req.program = program;
   req.experiment = experiment;
-  req.eps = eps;
   req.total_steps = steps + 1;
   req.csv = csv;
   return run_case(c, particles, req).valid ? 0 : 4;

@@ -13,7 +13,6 @@ namespace efsi {
 struct RunRequest {
   std::string program;      // for the banner
   std::string experiment;   // the CSV's experiment column
-  std::string eps;          // the CSV's eps cell ("" where it does not apply)
   long total_steps = 2;     // one warm-up step, then total_steps - 1 measured ones
   int every = 10;           // steps between series and centroid rows
   int progress = 0;         // print progress every N steps (0: 20 times in long runs)
@@ -33,8 +32,8 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 // The scaling drivers' run: validates the case (ConfigError before anything is
 // allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`
 // ("" for none). Returns the exit status: 0 when the run's checks passed, 4 otherwise.
-int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment,
-                     const std::string& eps, long steps, const std::string& csv);
+int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
+                     const std::string& csv);
 
 // Collective. Throws ConfigError when `path` cannot be created or written; creates nothing.
 void check_writable(const std::string& path, const char* option);

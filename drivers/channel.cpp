@@ -1,5 +1,5 @@
-// channel: one run of any configuration of the channel with particles (DESIGN.md
-// section 8). Parses, sets up, times and reports; the physics lives in kernels/.
+// channel: one run of any configuration of the channel with particles (docs/architecture.md,
+// "Programs and their command lines"). Parses, sets up, times and reports; the physics lives in kernels/.
 #include <mpi.h>
 #include <unistd.h>
 
@@ -39,7 +39,11 @@ struct Options {
 int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle>& particles) {
   check_writable(o.series, "--series");
   CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
-  const std::vector<double> eps = o.m.eps ? std::vector<double>{*o.m.eps} : std::vector<double>{1e-3, 1e-4};
+  const std::optional<double> given = o.m.method_values.at("--eps");
+  std::vector<double> eps;
+  if (given) eps.push_back(*given);
+  else
+    for (const auto& s : paper::kCalibratedSorSweeps) eps.push_back(s.eps);
   std::printf("calibrate: %s cells, box %.4g x %.4g x %.4g, %zu particles, G=%g, dt=%g, N_C=%d\n"
               "  state: laminar Poiseuille flow with the particles at rest and unstrained, then %ld steps of the "
               "FFT reference; rhs = D*/dt of the next step, SOR (omega 1.6) from dp = 0\n",
@@ -74,13 +78,13 @@ int run(const Options& o) {
   ChannelCase c;
   c.domain.cells = parse_int3(o.cells, "--cells");
   if (o.length.empty()) {
-    for (int a = 0; a < 3; ++a) c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
+    for (int a = 0; a < 3; ++a) c.domain.length[a] = c.domain.cells[a] * paper::kSpacing;
   } else {
     c.domain.length = parse_double3(o.length, "--length");
   }
-  if (o.calibrate && parse_method(o.m.method) != PressureKind::sor)
+  if (o.calibrate && o.m.method != "sor")
     throw ConfigError("--calibrate applies to --method sor only");
-  apply_method_options(o.m, c, 1.25e-5, o.calibrate);
+  apply_method_options(o.m, c, paper::kAcmDt, o.calibrate);
   if (o.max_sweeps < 1) throw ConfigError("--max-sweeps " + std::to_string(o.max_sweeps) + " must be at least 1");
   if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
   if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
@@ -124,7 +128,6 @@ int run(const Options& o) {
   RunRequest req;
   req.program = "channel";
   req.experiment = c.slab > 0 ? "layered" : "channel";
-  req.eps = eps_cell(o.m, c);
   req.total_steps = total;
   req.every = o.every;
   req.progress = o.progress;
@@ -136,7 +139,7 @@ int run(const Options& o) {
 
 int main(int argc, char** argv) {
   Options o;
-  CLI::App app{"One run of the explicit full-Eulerian FSI channel (DESIGN.md section 8).\n"
+  CLI::App app{"One run of the explicit full-Eulerian FSI channel (docs/architecture.md, 'Programs and their command lines').\n"
                "One warm-up step precedes the measured --steps; --t-end counts every step.",
                "channel"};
   app.add_option("--cells", o.cells, "N or NX,NY,NZ cells")->capture_default_str();

@@ -61,6 +61,8 @@ int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>&
   } catch (const CLI::CallForHelp&) {
     if (runtime.rank() == 0) std::fputs(app.help().c_str(), stdout);
     return 0;
+  } catch (const CLI::Success&) {  // an option that answered and ends the run (--list-methods)
+    return 0;
   } catch (const CLI::ParseError& e) {
     if (runtime.rank() == 0) std::fprintf(stderr, "%s: error: %s (see --help)\n", name.c_str(), e.what());
     return 2;

@@ -1,8 +1,10 @@
 #pragma once
-// The options that choose and tune the pressure method (DESIGN.md section 8), shared by
-// channel, weak_scaling and strong_scaling so that they parse and check them alike.
+// The options that choose and tune the pressure method and the time stepping, shared by
+// channel, weak_scaling, strong_scaling and accuracy so that they parse and check them
+// alike.  The methods and their own options come from the registry (method_registry.hpp).
 #include <CLI/CLI.hpp>
 
+#include <map>
 #include <optional>
 #include <string>
 
@@ -12,26 +14,30 @@ namespace efsi {
 
 struct MethodOptions {
   std::string method = "acm", comm = "sync", integrator = "euler";
-  std::optional<double> eps, dt;
-  std::optional<int> ns, nc;
+  std::map<std::string, std::optional<double>> method_values;  // by flag, one per registered option
+  std::optional<double> dt;
+  std::optional<int> nc;
   int threads = 0;
+
+  OptionValues given() const;  // the method options given on the command line
 };
 
-// --method, --comm, --eps, --ns, --nc, --dt, --threads, --integrator. `dt_help` names the default.
+// --method, --comm, every registered method's options, --nc, --dt, --threads, --integrator.
+// `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);
 
-// Checks the values and fills c.method, c.solver.comm, c.solver.cn_sweeps (default 20 for
-// sor, the paper's N_C; 0 otherwise), c.sor_sweeps (--ns, else the calibrated count for
-// --eps) and c.solver.dt (--dt, else `default_dt`). `calibrating`: N_S is not needed.
-// Throws ConfigError naming the offending value.
+// Checks the values and fills c.method (with c.solver.cn_sweeps), c.solver.comm,
+// c.solver.integrator and c.solver.dt (--dt, else `default_dt`), and sets the threads.
+// `calibrating`: the method is set up only to be calibrated.  Throws ConfigError naming the
+// offending value.
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating = false);
 
-// The scaling experiments' defaults (DESIGN.md section 5): ACM 50 steps of 1.25e-5; SOR
-// and the FFT reference 10 steps of 6.25e-5. Applies the options as above and returns the
+// The scaling experiments' defaults, the method's (MethodSpec::scaling_defaults: the paper's
+// ACM 50 steps of 1.25e-5, SMAC 10 of 6.25e-5). Applies the options as above and returns the
 // measured steps (`steps` when given). Throws ConfigError for fewer than one step.
 long apply_scaling_defaults(const MethodOptions& o, ChannelCase& c, std::optional<long> steps);
 
-// The CSV's eps cell: the eps that chose N_S, "" when --ns set it or the method is not sor.
-std::string eps_cell(const MethodOptions& o, const ChannelCase& c);
+// A positive, finite time step; throws ConfigError naming `option` and the value.
+void check_time_step_value(double dt, const char* option);
 
 }  // namespace efsi

@@ -1,4 +1,4 @@
-// strong_scaling: the paper's strong-scaling case (section 3.3, DESIGN.md section 5),
+// strong_scaling: the paper's strong-scaling case (section 3.3, docs/numerics.md, "Experiments"),
 // 2048 x 1024 x 1024 cells in 115.2 x 57.6 x 57.6 with 16384 particles, or a copy scaled
 // down by --scale per direction at the same particle density; --dry-run says what any
 // rank count would need without allocating the case.
@@ -39,7 +39,7 @@ int dry_run(const ChannelCase& c, int ranks, std::size_t particles) {
   if (is_root()) {
     std::printf("strong_scaling dry run: %s cells, box %.4g x %.4g x %.4g, %zu particles, %s\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
-                particles, to_string(c.method));
+                particles, c.method.name().c_str());
     std::printf("  ranks %d as %s, local block %s (%.4g cells per rank)\n", ranks, to_string(dims).c_str(),
                 to_string(local).c_str(), double(product(local)));
     std::printf("  memory per rank: %.3f GiB (%d fields %.3f GiB", gib(double(m.total())), m.fields,
@@ -59,7 +59,7 @@ int run(const Options& o) {
                       std::to_string(kLatticeCellsAcross) + " (1, 2, 4, 8 or 16)");
   for (int a = 0; a < 3; ++a) {
     c.domain.cells[a] = kFullCells[a] / o.scale;
-    c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
+    c.domain.length[a] = c.domain.cells[a] * paper::kSpacing;
   }
   c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));  // 16384 / scale^3
   if (!o.decomp.empty()) c.forced_dims = parse_int3(o.decomp, "--decomp");
@@ -71,7 +71,7 @@ int run(const Options& o) {
     return dry_run(c, *o.dry_ranks, static_cast<std::size_t>(c.particles));
   }
   if (o.dry_ranks) throw ConfigError("--ranks applies to --dry-run only (a run uses the ranks it is started on)");
-  return run_scaling_case(c, "strong_scaling", "strong", eps_cell(o.m, c), steps, o.csv);
+  return run_scaling_case(c, "strong_scaling", "strong", steps, o.csv);
 }
 
 }  // namespace
@@ -79,7 +79,7 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{
-      "The paper's strong-scaling case (DESIGN.md sections 5 and 8): 2048 x 1024 x 1024 cells, "
+      "The paper's strong-scaling case (docs/numerics.md, 'Experiments', and docs/architecture.md, 'Programs and their command lines'): 2048 x 1024 x 1024 cells, "
       "115.2 x 57.6 x 57.6, 16384 particles; --scale S divides every length and count by S per "
       "direction (particles at the same density).\nSteps as in weak scaling: ACM 50 of 1.25e-5; SOR and "
       "FFT 10 of 6.25e-5. --dry-run --ranks N prints the decomposition, local block and memory per rank "

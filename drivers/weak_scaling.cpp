@@ -1,4 +1,4 @@
-// weak_scaling: the paper's weak-scaling experiment (section 3.2, DESIGN.md section 5) on
+// weak_scaling: the paper's weak-scaling experiment (section 3.2, docs/numerics.md, "Experiments") on
 // however many ranks it is started with: a fixed block and particle count per rank, the
 // global box the rank grid times the block, walls bounding the outermost ranks in y.
 #include <mpi.h>
@@ -41,12 +41,12 @@ int run(const Options& o) {
   c.forced_dims = dims;
   for (int a = 0; a < 3; ++a) {
     c.domain.cells[a] = dims[a] * o.local;
-    c.domain.length[a] = c.domain.cells[a] * kPaperSpacing;
+    c.domain.length[a] = c.domain.cells[a] * paper::kSpacing;
   }
   c.particles = o.particles_per_rank * ranks;
   c.solver.velocity_limit = default_velocity_limit(c);
 
-  return run_scaling_case(c, "weak_scaling", "weak", eps_cell(o.m, c), steps, o.csv);
+  return run_scaling_case(c, "weak_scaling", "weak", steps, o.csv);
 }
 
 }  // namespace
@@ -54,7 +54,7 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   Options o;
   CLI::App app{
-      "The paper's weak-scaling case (DESIGN.md sections 5 and 8): a --local^3 block with "
+      "The paper's weak-scaling case (docs/numerics.md, 'Experiments', and docs/architecture.md, 'Programs and their command lines'): a --local^3 block with "
       "--particles-per-rank particles per rank, the global box the rank grid times the block.\n"
       "Defaults are the paper's: ACM 50 steps of 1.25e-5; SOR and FFT 10 steps of 6.25e-5, SOR with N_S "
       "from the calibration for --eps and N_C = 20. One warm-up step precedes the measured ones.",

@@ -1,11 +1,11 @@
-"""The scaling sweeps of EFSI-Bench in one place (DESIGN.md section 5, the paper's Tables 1-4).
+"""The scaling sweeps of EFSI-Bench in one place (docs/numerics.md, "Experiments", the paper's Tables 1-4).
 
 campaign.py runs them here through mpirun, writes them as SLURM batch scripts, and prints
 them for the JUBE definition in harness/jube/; everything that names a rank count, a
 configuration or a driver option comes from this module.  Standard library only.
 
 A configuration is written `METHOD-COMM[-EPS]`: `acm-sync`, `sor-async-1e-3`, `fft-sync`.
-The SOR tolerance picks the calibrated N_S in the driver (DESIGN.md 3.2); ACM and FFT have
+The SOR tolerance picks the calibrated N_S in the driver (docs/numerics.md, "SMAC"); ACM and FFT have
 none.
 """
 

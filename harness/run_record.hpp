@@ -1,5 +1,5 @@
 #pragma once
-// One CSV row per finished run (DESIGN.md section 8), appended by rank 0 under an
+// One CSV row per finished run (docs/numerics.md, "Output: the CSV run record"), appended by rank 0 under an
 // exclusive file lock so that concurrent runs never interleave or lose a row.
 #include <mpi.h>
 

@@ -17,8 +17,8 @@ std::string timing_report_text(const TimerReport& rep, long steps, double cells)
     out += b;
   };
   line("elapsed", rep.elapsed);
-  for (int r = 0; r < kRegionCount; ++r)
-    if (rep.region[r].max > 0) line(std::string(to_string(static_cast<Region>(r))).c_str(), rep.region[r]);
+  for (int r = 0; r < region_count(); ++r)
+    if (rep.region[r].max > 0) line(std::string(to_string(Region{r})).c_str(), rep.region[r]);
   line("comm", rep.comm);
   std::snprintf(b, sizeof b,
                 "  comm fraction %.4f (mean halo MPI and wait + reductions + transposes / slowest elapsed)\n",

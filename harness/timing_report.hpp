@@ -1,5 +1,5 @@
 #pragma once
-// DESIGN.md section 7's report as text: the slowest rank's elapsed time, per-region
+// the report of docs/numerics.md, "Timer regions and the communication fraction", as text: the slowest rank's elapsed time, per-region
 // minimum, mean and maximum over ranks, and the communication fraction.
 #include <string>
 

@@ -1,4 +1,4 @@
-"""Reading result CSVs (DESIGN.md section 8) and the paper's tables, grouping and reducing them.
+"""Reading result CSVs (docs/numerics.md, "Output: the CSV run record") and the paper's tables, grouping and reducing them.
 
 Standard library only, so the tests can check the numbers without matplotlib.
 

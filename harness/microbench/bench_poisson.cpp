@@ -18,8 +18,8 @@
 //     (fftw_plan_dft_r2c_3d / c2r_3d, out of place, FFTW_MEASURE, the solver's thread count);
 //   - one pass copying rhs's owned cells into x (one read and one write of the field).
 // Counters (rank 0; per solve):
-//   fft_ms, transpose_ms  the solve's RegionTimers: Region::fft_solve (FFTs, Thomas,
-//                         reordering) and Region::transpose_mpi (its MPI_Alltoallv)
+//   fft_ms, transpose_ms  the solve's RegionTimers: kFftSolveRegion (FFTs, Thomas,
+//                         reordering) and kTransposeRegion (its MPI_Alltoallv)
 //   fftw_3d_ms, copy_ms   the two references, slowest rank, mean over the iterations
 //   ratio_to_fftw_3d      solve time / fftw_3d_ms: how close the solve comes to the cost of
 //                         its FFTs alone (a forward and a backward 3D transform is the least
@@ -176,8 +176,8 @@ void BM_FftSolve(benchmark::State& state) {
 
   const double iters = static_cast<double>(state.iterations());
   const double per_ms = 1e3 / iters;
-  state.counters["fft_ms"] = timers.get(Region::fft_solve) * per_ms;
-  state.counters["transpose_ms"] = timers.get(Region::transpose_mpi) * per_ms;
+  state.counters["fft_ms"] = timers.get(kFftSolveRegion) * per_ms;
+  state.counters["transpose_ms"] = timers.get(kTransposeRegion) * per_ms;
   state.counters["fftw_3d_ms"] = t_fftw * per_ms;
   state.counters["copy_ms"] = t_copy * per_ms;
   state.counters["ratio_to_fftw_3d"] = t_fftw > 0 ? t_solve / t_fftw : 0.0;
@@ -205,13 +205,13 @@ void BM_SorSweep(benchmark::State& state, CommMode mode) {
   }
 
   const double per_ms = 1e3 / (static_cast<double>(state.iterations()) * kSorSweeps);
-  state.counters["sor_sweeps_ms"] = timers.get(Region::sor_sweeps) * per_ms;
+  state.counters["sor_sweeps_ms"] = timers.get(kSorSweepsRegion) * per_ms;
   state.counters["halo_mpi_ms"] = timers.get(Region::halo_mpi) * per_ms;
   state.counters["halo_wait_ms"] = timers.get(Region::halo_wait) * per_ms;
   state.counters["halo_pack_ms"] = timers.get(Region::halo_pack) * per_ms;
   state.counters["halo_unpack_ms"] = timers.get(Region::halo_unpack) * per_ms;
   double regions = 0.0;
-  for (Region r : {Region::sor_sweeps, Region::halo_mpi, Region::halo_wait, Region::halo_pack, Region::halo_unpack})
+  for (Region r : {kSorSweepsRegion, Region::halo_mpi, Region::halo_wait, Region::halo_pack, Region::halo_unpack})
     regions += timers.get(r);
   state.counters["other_ms"] = (total - regions) * per_ms;
   state.counters["global_cells"] = static_cast<double>(product(pb.domain.cells));

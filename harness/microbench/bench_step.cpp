@@ -67,8 +67,8 @@ void BM_Step(benchmark::State& state, const StepCase& m) {
   const double cells = static_cast<double>(product(s.c.domain.cells));
   const double per_ms = 1e3 / steps;
   double regions = 0.0;
-  for (int r = 0; r < kRegionCount; ++r) {
-    const Region region = static_cast<Region>(r);
+  for (int r = 0; r < region_count(); ++r) {
+    const Region region{r};
     regions += timers.get(region);
     state.counters[std::string(to_string(region)) + "_ms"] = timers.get(region) * per_ms;
   }

@@ -19,12 +19,12 @@
 
 namespace efsi::bench {
 
-inline constexpr double kBlockLen = 3.6;  // length per rank per axis (one lattice cell: 2 particles)
-inline constexpr double kShearModulus = 50.0;
+inline constexpr double kBlockLen = paper::kBlockLength;  // per rank per axis: one lattice cell, 2 particles
+inline constexpr double kShearModulus = paper::kShearModulus;
 
 // One method's settings for a whole step.
 struct StepCase {
-  PressureKind method;
+  std::string method;  // a registered pressure method
   CommMode mode;
   double dt;
   int ns;              // SOR sweeps per step (method sor)
@@ -37,19 +37,19 @@ struct StepCase {
 // Crank-Nicolson stress by N_C = 20 sweeps; FFT dt 6.25e-5, explicit stress.
 inline const std::vector<StepCase>& paper_step_cases() {
   static const std::vector<StepCase> cases{
-      {PressureKind::acm, CommMode::sync, 1.25e-5, 0, 0, 5},
-      {PressureKind::acm, CommMode::async, 1.25e-5, 0, 0, 5},
-      {PressureKind::sor, CommMode::sync, 6.25e-5, 213, 20, 2},
-      {PressureKind::sor, CommMode::async, 6.25e-5, 213, 20, 2},
-      {PressureKind::fft, CommMode::sync, 6.25e-5, 0, 0, 5},
+      {"acm", CommMode::sync, paper::kAcmDt, 0, 0, 5},
+      {"acm", CommMode::async, paper::kAcmDt, 0, 0, 5},
+      {"sor", CommMode::sync, paper::kSmacDt, paper::kCalibratedSorSweeps[0].sweeps, paper::kCnSweeps, 2},
+      {"sor", CommMode::async, paper::kSmacDt, paper::kCalibratedSorSweeps[0].sweeps, paper::kCnSweeps, 2},
+      {"fft", CommMode::sync, paper::kSmacDt, 0, 0, 5},
   };
   return cases;
 }
 
 // "acm/sync", "sor_ns213_nc20/async", "fft/sync".
 inline std::string step_case_name(const StepCase& m) {
-  std::string name = to_string(m.method);
-  if (m.method == PressureKind::sor) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
+  std::string name = m.method;
+  if (m.ns > 0) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
   else if (m.nc > 0) name += "_nc" + std::to_string(m.nc);
   return name + "/" + to_string(m.mode);
 }
@@ -60,7 +60,7 @@ struct ChannelSetup {
   std::unique_ptr<CartDecomposition> dec;
   std::unique_ptr<FsiSolver> solver;
 
-  ChannelSetup(const StepCase& m, int block, FftPoisson::Planning planning = FftPoisson::Planning::measure) {
+  ChannelSetup(const StepCase& m, int block, bool timed_planning = true) {
     int p = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &p);
     c.domain.cells = {block * p, block, block};
@@ -68,10 +68,10 @@ struct ChannelSetup {
     c.solver.dt = m.dt;
     c.solver.physics.G = kShearModulus;
     c.solver.comm = m.mode;
-    c.solver.cn_sweeps = m.nc;
-    c.method = m.method;
-    c.sor_sweeps = m.ns;
-    c.fft_planning = planning;
+    OptionValues given;
+    if (m.ns > 0) given["--ns"] = m.ns;
+    choose_method(c, configure_method(m.method, given, m.nc));
+    c.timed_planning = timed_planning;
     // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
     c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
     c.forced_dims = {p, 1, 1};

@@ -3,30 +3,15 @@
 #include <algorithm>
 #include <cmath>
 
-#include "acm.hpp"
-#include "smac_fft.hpp"
-#include "smac_sor.hpp"
 #include "config_error.hpp"
 #include "time_step_limits.hpp"
 
 namespace efsi {
 
-PressureKind parse_method(const std::string& name) {
-  if (name == "acm") return PressureKind::acm;
-  if (name == "sor") return PressureKind::sor;
-  if (name == "fft") return PressureKind::fft;
-  throw ConfigError("unknown method '" + name + "': expected acm, sor or fft");
+void choose_method(ChannelCase& c, MethodChoice m) {
+  c.solver.cn_sweeps = m.cn_sweeps;
+  c.method = std::move(m);
 }
-
-const char* to_string(PressureKind k) {
-  switch (k) {
-    case PressureKind::acm: return "acm";
-    case PressureKind::sor: return "sor";
-    case PressureKind::fft: return "fft";
-  }
-  return "?";
-}
-
 
 double poiseuille_centre_velocity(const ChannelCase& c) {
   return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
@@ -40,16 +25,7 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
     if (!(d.length[a] > 0))
       throw ConfigError("box length " + std::to_string(d.length[a]) + " must be positive");
   choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
-  if (c.method == PressureKind::sor) {
-    if (c.sor_sweeps < 1)
-      throw ConfigError("SOR sweeps per step N_S=" + std::to_string(c.sor_sweeps) + " must be at least 1");
-    if (d.cells[X] % 2 != 0 || d.cells[Z] % 2 != 0)
-      throw ConfigError("method sor needs even cell counts in x and z (four-colour ordering across the periodic "
-                        "wrap); cells are " + to_string(d.cells));
-  }
-  if (c.solver.cn_sweeps < 0)
-    throw ConfigError("Crank-Nicolson sweeps per step N_C=" + std::to_string(c.solver.cn_sweeps) +
-                      " must be 0 (explicit stress) or more");
+  c.method.spec->check_grid(d.cells);
   if (!(c.solver.dt > 0)) throw ConfigError("dt=" + std::to_string(c.solver.dt) + " must be positive");
   const Physics& ph = c.solver.physics;
   check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, std::fabs(ph.force)));
@@ -74,15 +50,7 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
 
 std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecomposition& decomp,
                                         const std::vector<Particle>& particles) {
-  std::unique_ptr<PressureMethod> pressure;
-  switch (c.method) {
-    case PressureKind::acm: pressure = std::make_unique<AcmPressure>(); break;
-    case PressureKind::sor:
-      pressure = std::make_unique<SmacSorPressure>(c.solver.comm,
-                                                   c.sor_sweeps);
-      break;
-    case PressureKind::fft: pressure = std::make_unique<SmacFftPressure>(c.fft_planning); break;
-  }
+  auto pressure = c.method.spec->make(c.method, MethodBuild{c.solver.comm, c.timed_planning});
   auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
   Field& phi = solver->state().phi();
   phi.fill(0.0);

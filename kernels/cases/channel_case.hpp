@@ -7,33 +7,27 @@
 
 #include "decomposition.hpp"
 #include "domain.hpp"
-#include "fft_poisson.hpp"
 #include "fsi_solver.hpp"
+#include "method_registry.hpp"
+#include "paper_constants.hpp"
 #include "particles.hpp"
 
 namespace efsi {
 
-enum class PressureKind { acm, sor, fft };
-
-// The paper's grid spacing: 64 cells per 3.6, one particle-lattice cell.
-inline constexpr double kPaperSpacing = 3.6 / 64;
-
 struct ChannelCase {
   Domain domain;
   SolverConfig solver;
-  PressureKind method = PressureKind::acm;
-  int sor_sweeps = 0;   // N_S per step for method sor (>= 1 there)
+  MethodChoice method = configure_method("acm", {}, std::nullopt);  // set with choose_method
   int particles = 0;    // the first K lattice sites; 0: none
   double slab = 0.0;    // > 0: the layered case, solid for slab < y < Ly - slab
   ParticleSpec particle;
   Int3 forced_dims{0, 0, 0};
-  // FFTW_MEASURE times candidate plans, so which plan runs (and its instruction count) can
-  // change from run to run; the counted CI gate needs estimate.
-  FftPoisson::Planning fft_planning = FftPoisson::Planning::measure;
+  // MethodBuild::timed_planning: off for the bitwise tests and the counted CI gate.
+  bool timed_planning = true;
 };
 
-PressureKind parse_method(const std::string& name);  // throws ConfigError
-const char* to_string(PressureKind k);
+// The method and the Crank-Nicolson sweeps it asks for (c.solver.cn_sweeps).
+void choose_method(ChannelCase& c, MethodChoice m);
 
 // Everything that can be checked without allocating a field: decomposition for `ranks`,
 // time step under the viscous, elastic and advective limits, particles inside the box,

@@ -3,16 +3,6 @@
 #include "field.hpp"
 
 namespace efsi {
-namespace {
-
-// FftPoisson per cell of the block, in 8-byte words (fft_poisson.cpp): the block, x-pencil,
-// r2c output, z-pencil and y-pencil buffers (5); the real x transpose's send and receive
-// buffers and int64 index lists (4); the two complex transposes, half the points as
-// complex numbers: buffers 2 x 1 and index lists 2 x 1/2 each (3 + 3).
-constexpr double kFftWordsPerCell = 15.0;
-
-}  // namespace
-
 MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local) {
   ChannelCase probe = c;
   probe.domain.cells = {16, 16, 16};
@@ -28,8 +18,7 @@ MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local) {
   m.fields = static_cast<int>(recorder.specs().size());
   for (const FieldSpec& f : recorder.specs())
     m.field_bytes += Field::allocation_doubles(local, f.halo) * sizeof(double);
-  if (c.method == PressureKind::fft)
-    m.solver_bytes = static_cast<std::size_t>(kFftWordsPerCell * double(product(local)) * 8.0);
+  m.solver_bytes = static_cast<std::size_t>(c.method.spec->extra_bytes(local));
   return m;
 }
 

@@ -10,7 +10,7 @@ namespace efsi {
 struct MemoryEstimate {
   int fields = 0;                // Field arrays the solver makes (state, work, method, CN)
   std::size_t field_bytes = 0;   // their allocation at the target local block, padding included
-  std::size_t solver_bytes = 0;  // the FFT solver's pencils, buffers and index lists (fft only)
+  std::size_t solver_bytes = 0;  // the method's memory beyond its Fields (FFT: pencils, buffers, index lists)
   std::size_t total() const { return field_bytes + solver_bytes; }
 };
 

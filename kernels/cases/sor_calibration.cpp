@@ -14,7 +14,7 @@ SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& deco
                              const std::vector<Particle>& particles, long warmup, const std::vector<double>& eps,
                              int max_sweeps) {
   ChannelCase ref = c;
-  ref.method = PressureKind::fft;
+  ref.method = configure_method("fft", {}, c.solver.cn_sweeps);
   auto solver = build_solver(ref, decomp, particles);
   solver->impose_laminar_flow();
   for (long s = 0; s <= warmup; ++s) solver->step();
@@ -64,17 +64,6 @@ SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& deco
   MPI_Allreduce(local, maxes, 2, MPI_DOUBLE, MPI_MAX, decomp.comm());
   out.fft_difference = maxes[1] > 0 ? maxes[0] / maxes[1] : 0.0;
   return out;
-}
-
-int calibrated_sor_sweeps(double eps) {
-  // channel --cells 64 --length 3.6 --method sor --calibrate --dt 6.25e-5 --steps 200
-  // (dev-2core; the paper's own counts were 100 and 220 per step).
-  if (eps == 1e-3) return 213;
-  if (eps == 1e-4) return 353;
-  char value[32];
-  std::snprintf(value, sizeof value, "%g", eps);
-  throw ConfigError(std::string("no calibrated SOR sweep count for --eps ") + value +
-                    " (calibrated: 1e-3, 1e-4); give --ns, or find one with --calibrate");
 }
 
 }  // namespace efsi

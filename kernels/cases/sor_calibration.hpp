@@ -1,6 +1,6 @@
 #pragma once
-// The paper's calibration of the SOR sweep count N_S (section 3.2), and the counts it gave
-// on the paper's weak-scaling block, which the drivers use when --ns is not given.
+// The paper's calibration of the SOR sweep count N_S (the counts it gave on the paper's
+// weak-scaling block are in paper_constants.hpp; the drivers use them when --ns is not given).
 //
 // The state calibrated on: the case's solid (for the weak block, its 2 biconcave
 // particles) at rest and unstrained in the steady laminar Poiseuille flow of the driving
@@ -26,9 +26,5 @@ struct SorCalibration {
 SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& decomp,
                              const std::vector<Particle>& particles, long warmup, const std::vector<double>& eps,
                              int max_sweeps);
-
-// N_S that calibrate_sor gave for eps = 1e-3 and 1e-4 on the paper's 64^3 block (see the
-// README for the command and machine). Throws ConfigError for another eps.
-int calibrated_sor_sweeps(double eps);
 
 }  // namespace efsi

@@ -1,5 +1,5 @@
 #pragma once
-// Staggered fields on the local block (DESIGN.md section 2).
+// Staggered fields on the local block (docs/numerics.md, "Staggered grid").
 //
 // Index convention: the owned points of every staggering are 0..n-1 along each axis,
 // where point i of a staggered axis is the face (or edge) at the low side of cell i.

@@ -1,31 +1,46 @@
 #include "region_timers.hpp"
 
+#include <stdexcept>
+#include <vector>
+
 namespace efsi {
 
-std::string_view to_string(Region r) {
-  switch (r) {
-    case Region::compute: return "compute";
-    case Region::halo_pack: return "halo_pack";
-    case Region::halo_unpack: return "halo_unpack";
-    case Region::halo_mpi: return "halo_mpi";
-    case Region::halo_wait: return "halo_wait";
-    case Region::reduce: return "reduce";
-    case Region::sor_sweeps: return "sor_sweeps";
-    case Region::fft_solve: return "fft_solve";
-    case Region::transpose_mpi: return "transpose_mpi";
-    case Region::count: break;
-  }
-  return "?";
+namespace {
+
+struct RegionInfo {
+  std::string name;
+  bool communication;
+};
+
+std::vector<RegionInfo>& table() {
+  static std::vector<RegionInfo> t{{"compute", false},  {"halo_pack", false}, {"halo_unpack", false},
+                                   {"halo_mpi", true},  {"halo_wait", true},  {"reduce", true}};
+  return t;
 }
+
+}  // namespace
+
+Region define_region(std::string_view name, bool communication) {
+  auto& t = table();
+  if (static_cast<int>(t.size()) >= kMaxRegions)
+    throw std::logic_error("more than " + std::to_string(kMaxRegions) + " timer regions");
+  t.push_back({std::string(name), communication});
+  return Region{static_cast<int>(t.size()) - 1};
+}
+
+int region_count() { return static_cast<int>(table().size()); }
+std::string_view to_string(Region r) { return table().at(r.id).name; }
+bool is_communication(Region r) { return table().at(r.id).communication; }
 
 TimerReport summarize(const RegionTimers& timers, double elapsed, MPI_Comm comm) {
   // Regions, then elapsed, then comm: one reduction per operator.
-  constexpr int n = kRegionCount + 2;
+  constexpr int n = kMaxRegions + 2;
   std::array<double, n> local{};
-  for (int r = 0; r < kRegionCount; ++r) local[r] = timers.get(static_cast<Region>(r));
-  local[kRegionCount] = elapsed;
-  local[kRegionCount + 1] = timers.get(Region::halo_mpi) + timers.get(Region::halo_wait) +
-                            timers.get(Region::reduce) + timers.get(Region::transpose_mpi);
+  for (int r = 0; r < region_count(); ++r) {
+    local[r] = timers.get(Region{r});
+    if (is_communication(Region{r})) local[kMaxRegions + 1] += local[r];
+  }
+  local[kMaxRegions] = elapsed;
 
   std::array<double, n> lo{}, sum{}, hi{};
   MPI_Allreduce(local.data(), lo.data(), n, MPI_DOUBLE, MPI_MIN, comm);
@@ -36,9 +51,9 @@ TimerReport summarize(const RegionTimers& timers, double elapsed, MPI_Comm comm)
 
   auto spread = [&](int m) { return Spread{lo[m], sum[m] / ranks, hi[m]}; };
   TimerReport rep;
-  for (int r = 0; r < kRegionCount; ++r) rep.region[r] = spread(r);
-  rep.elapsed = spread(kRegionCount);
-  rep.comm = spread(kRegionCount + 1);
+  for (int r = 0; r < region_count(); ++r) rep.region[r] = spread(r);
+  rep.elapsed = spread(kMaxRegions);
+  rep.comm = spread(kMaxRegions + 1);
   rep.comm_fraction = rep.elapsed.max > 0 ? rep.comm.mean / rep.elapsed.max : 0.0;
   return rep;
 }

@@ -1,35 +1,42 @@
 #pragma once
-// Per-rank wall-clock accumulators for the regions of DESIGN.md section 7, and their
+// Per-rank wall-clock accumulators for the regions of docs/numerics.md, "Timer regions and the communication fraction", and their
 // summary over ranks (min, mean, max; the slowest rank's elapsed time).
 #include <mpi.h>
 
 #include <array>
+#include <string>
 #include <string_view>
 
 namespace efsi {
 
-// Exclusive regions: a second of wall time lands in one at most.  Communication (the
-// comm figure) is halo_mpi + halo_wait + reduce + transpose_mpi.
-enum class Region : int {
-  compute,
-  halo_pack,
-  halo_unpack,
-  halo_mpi,       // blocking exchanges; posting and progressing the async ones
-  halo_wait,      // async exchanges: the final wait, what overlap with computation hides
-  reduce,
-  sor_sweeps,     // SOR colour updates
-  fft_solve,      // the FFT Poisson solve less its transposes: FFTs, Thomas, reordering
-  transpose_mpi,  // the FFT solve's MPI_Alltoallv
-  count
+// Exclusive regions: a second of wall time lands in one at most.  The grid's own regions
+// come first; a pressure method defines its own (define_region) where its code lives, so
+// nothing here names a method.  Communication (the comm figure) is halo_mpi + halo_wait +
+// reduce + every region defined as communication.
+struct Region {
+  int id;
+  static const Region compute, halo_pack, halo_unpack, halo_mpi, halo_wait, reduce;
 };
-inline constexpr int kRegionCount = static_cast<int>(Region::count);
+inline constexpr Region Region::compute{0};
+inline constexpr Region Region::halo_pack{1};
+inline constexpr Region Region::halo_unpack{2};
+inline constexpr Region Region::halo_mpi{3};     // blocking exchanges; posting and progressing async ones
+inline constexpr Region Region::halo_wait{4};    // async exchanges: the final wait, what overlap hides
+inline constexpr Region Region::reduce{5};
+inline constexpr int kMaxRegions = 16;
 
+// A new region named `name` (the same program defines the same regions in the same order on
+// every rank: at static initialisation of the file that uses it).  Throws std::logic_error
+// past kMaxRegions.
+Region define_region(std::string_view name, bool communication);
+int region_count();  // defined so far
 std::string_view to_string(Region r);
+bool is_communication(Region r);
 
 class RegionTimers {
  public:
-  void add(Region r, double seconds) { acc_[static_cast<int>(r)] += seconds; }
-  double get(Region r) const { return acc_[static_cast<int>(r)]; }
+  void add(Region r, double seconds) { acc_[r.id] += seconds; }
+  double get(Region r) const { return acc_[r.id]; }
   void reset() { acc_.fill(0.0); }
 
   // Adds the wall time from construction to destruction to one region.
@@ -49,7 +56,7 @@ class RegionTimers {
   };
 
  private:
-  std::array<double, kRegionCount> acc_{};
+  std::array<double, kMaxRegions> acc_{};
 };
 
 struct Spread {
@@ -57,11 +64,11 @@ struct Spread {
 };
 
 struct TimerReport {
-  std::array<Spread, kRegionCount> region{};
+  std::array<Spread, kMaxRegions> region{};  // region_count() of them
   Spread elapsed;           // per-rank elapsed time of the measured section
-  Spread comm;              // halo MPI (posting and waiting) + reductions + transposes, per rank
+  Spread comm;              // halo MPI (posting and waiting) + reductions + communication regions, per rank
   double comm_fraction = 0; // mean comm time / slowest rank's elapsed time
-  const Spread& operator[](Region r) const { return region[static_cast<int>(r)]; }
+  const Spread& operator[](Region r) const { return region[r.id]; }
 };
 
 // Collective over `comm`: every rank receives the same report.

@@ -1,6 +1,6 @@
 #pragma once
 // Where staggered quantities live and how they are moved: averaging from one location to
-// another and first differences. DESIGN.md section 2: a product of quantities that live in
+// another and first differences. docs/numerics.md, "Staggered grid": a product of quantities that live in
 // different places is formed by averaging each factor to the target location.
 #include "field.hpp"
 

@@ -2,7 +2,7 @@
 // Upwind-biased fifth-order WENO derivative in the Hamilton-Jacobi form of Jiang and Peng
 // (SIAM J. Sci. Comput. 21, 2000) with the Jiang-Shu smoothness indicators and weights
 // alpha_k = gamma_k / (eps + beta_k)^2, eps = 1e-6: the non-conservative advection v.grad q
-// of phi and Bt (DESIGN.md section 2). It runs for 7 fields per cell per axis per step, so it
+// of phi and Bt (docs/numerics.md, "Staggered grid"). It runs for 7 fields per cell per axis per step, so it
 // is branch-free (the upwind side is a select, not a jump) and spends one division.
 //
 // Why the classic weights and not WENO-Z (Borges et al. 2008) or eps scaled with h^2:
@@ -11,7 +11,7 @@
 //   + 0.3 cos(4 pi (x+s)) over 100 shifts s the worst max-norm order is 4.68 (N 32->64),
 //   4.75 (64->128), 4.48 (128->256). WENO-Z keeps 5.15, 5.31, 5.00; eps = h^2 changes
 //   nothing visible (the indicators there are far above h^2).
-// - Stability, which decides it. DESIGN.md fixes explicit Euler, whose amplification on a
+// - Stability, which decides it. The paper's explicit Euler, whose amplification on a
 //   resolved wave is |1 - i CFL theta| > 1: only the scheme's own dissipation holds it. In
 //   1-D periodic transport at the paper's CFL 0.06 on 128 cells for the accuracy case's
 //   40000 steps, WENO-Z blows up (|q| > 1e3 after 21000-26000 steps for a step, tanh fronts

@@ -1,5 +1,5 @@
 #pragma once
-// Particle centroids (DESIGN.md section 6): connected regions of cells with phi > 1/2,
+// Particle centroids (docs/numerics.md, "Particles"): connected regions of cells with phi > 1/2,
 // 6-connected, over the whole domain, across ranks and across the periodic x and z
 // boundaries, each with its volume and its true (unwrapped) centroid.
 //

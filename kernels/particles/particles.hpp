@@ -1,5 +1,5 @@
 #pragma once
-// Biconcave particles (DESIGN.md section 4): the Evans-Fung shape, the body-centred cubic
+// Biconcave particles (docs/numerics.md, "Particles"): the Evans-Fung shape, the body-centred cubic
 // placement with seeded orientations, the placement checks, and the initial solid
 // fraction phi0 that every experiment starts from.
 //

@@ -1,4 +1,4 @@
-// DESIGN.md section 6: the kinetic-energy budget -dK/dt + I - eps_s - eps_f = 0 and the
+// docs/numerics.md, "Diagnostics": the kinetic-energy budget -dK/dt + I - eps_s - eps_f = 0 and the
 // flow's state. The dissipation sums pair each stress component with the strain rate at
 // the same place, with half weight on the wall planes, which is exactly what the
 // momentum equation's stress divergence does to the energy (summation by parts with the

@@ -1,5 +1,5 @@
 #pragma once
-// The governing equations (DESIGN.md sections 1 and 2) in one place, shared by every
+// The governing equations (docs/numerics.md, "Governing equations" and "Spatial discretisation") in one place, shared by every
 // pressure method: deviatoric stress, the unprojected velocity v* of eq. (6), and the
 // WENO5 + upper-convected transport of phi and Bt. Each kernel works on a box of its
 // output points, so a caller can do the interior while a halo exchange is in flight
@@ -50,7 +50,7 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
 // `cells` extended to q's owned top wall face when q is staggered in y (field.hpp).
 Box owned_extent(const Field& q, const Box& cells);
 
-// The pieces of the Crank-Nicolson stress iteration (DESIGN.md 3.2), same stencils as above.
+// The pieces of the Crank-Nicolson stress iteration (docs/numerics.md, "SMAC"), same stencils as above.
 // compute_stress on the owned points of every component (top wall faces included): the
 // iteration exchanges tau instead of computing it on ghosts.
 void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau);

@@ -1,6 +1,6 @@
 #pragma once
 // The solver's state on the local block: velocity, pressure, solid fraction and the
-// modified left Cauchy-Green tensor Bt = sqrt(phi) B, laid out as DESIGN.md section 2.
+// modified left Cauchy-Green tensor Bt = sqrt(phi) B, laid out as docs/numerics.md, "Staggered grid".
 #include <array>
 #include <vector>
 
@@ -81,7 +81,7 @@ class FsiState {
   const Domain& domain() const { return domain_; }
   const CartDecomposition& decomp() const { return decomp_; }
 
-  // Bt = sqrt(phi0) I, v = 0, p = 0 (DESIGN.md section 1); owned points only.
+  // Bt = sqrt(phi0) I, v = 0, p = 0 (docs/numerics.md, "Governing equations"); owned points only.
   void set_unstrained_rest();
 
  private:

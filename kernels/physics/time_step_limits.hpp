@@ -1,7 +1,7 @@
 #pragma once
-// Explicit stability limits of DESIGN.md's scheme (explicit Euler; second-order central
+// Explicit stability limits of the scheme (docs/numerics.md, "Time-step limits": explicit Euler; second-order central
 // differences on the staggered grid for momentum, viscosity and elasticity; WENO5 transport
-// of phi and Bt), checked before a run allocates anything (DESIGN.md section 8).
+// of phi and Bt), checked before a run allocates anything (docs/architecture.md, "Programs and their command lines").
 //
 // Each limit is the von Neumann bound of explicit Euler on the linearised equations, with a
 // safety factor only where the linear analysis is known to be optimistic:

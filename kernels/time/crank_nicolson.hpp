@@ -1,5 +1,5 @@
 #pragma once
-// Crank-Nicolson deviatoric stress by fixed-point sweeps (DESIGN.md 3.2): div tau in v*
+// Crank-Nicolson deviatoric stress by fixed-point sweeps (docs/numerics.md, "SMAC"): div tau in v*
 // becomes (div tau(v^N, Bt^N) + div tau(v*, Bt*)) / 2, where Bt* is Bt carried by v^N
 // (the transport's WENO5 advection) but stretched by the velocity gradient of the
 // current iterate v*:

@@ -1,5 +1,5 @@
 #pragma once
-// The only part that differs between the three methods (DESIGN.md section 3): the
+// The only part that differs between the three methods (docs/numerics.md, "The pressure methods"): the
 // pressure increment dp with D^{N+1} = D* - dt Lap(dp), D* = rho div v*.
 #include "fsi_equations.hpp"
 #include "region_timers.hpp"

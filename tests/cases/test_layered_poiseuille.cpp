@@ -1,4 +1,4 @@
-// Layered Poiseuille flow (DESIGN.md section 6): a solid slab a < y < h - a between fluid
+// Layered Poiseuille flow (docs/numerics.md, "Validation cases"): a solid slab a < y < h - a between fluid
 // layers, driven by f, settles to a rigid plug that carries the shear stress elastically:
 // Bt12 = -f (y - h/2) / G, Bt11 = 1 + Bt12^2, Bt22 = Bt33 = 1 inside the slab, Poiseuille
 // flow in the fluid. Exercises the solid stress, the upper-convected terms and the slab

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """What the driver tests share: launching a built driver on 1 or more ranks (killing
 hung jobs), snapshots of a directory, CSV tables, and the check of a section-8 CSV row
-against the launch that wrote it (DESIGN.md section 8).
+against the launch that wrote it (docs/architecture.md, "Programs and their command lines").
 
 Standard library only. BIN_DIR is set by main() from --bin-dir or EFSI_BIN_DIR."""
 
@@ -194,7 +194,7 @@ class DriverTestCase(unittest.TestCase):
 
     def check_header(self, header):
         self.assertEqual(header[:len(SECTION8_COLUMNS)], SECTION8_COLUMNS,
-                         "the CSV header must begin with DESIGN.md section 8's columns, in order")
+                         "the CSV header must begin with the columns of docs/numerics.md, "Output: the CSV run record", in order")
         self.assertEqual(len(set(header)), len(header), "repeated column in %s" % header)
         self.assertEqual(header[len(SECTION8_COLUMNS):], SUITE_COLUMNS, "the suite's own columns follow")
 

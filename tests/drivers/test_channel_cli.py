@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""End-to-end tests of the `channel` driver through its command line (DESIGN.md section 8).
+"""End-to-end tests of the `channel` driver through its command line (docs/architecture.md, "Programs and their command lines").
 
 Runs the built executable the way users and scripts do: bad input (one line on stderr naming
 the value, exit status 2, no output file touched, on 1 and 2 ranks), --help, the CSV run
@@ -26,7 +26,7 @@ import time
 import driver_harness
 from driver_harness import *  # noqa: F401,F403 (launching, tables, row checks)
 
-# The options of DESIGN.md section 8's `channel` row.
+# The options of `channel`'s row in docs/architecture.md, "Programs and their command lines".
 SECTION8_OPTIONS = ("--cells", "--length", "--method", "--comm", "--eps", "--ns", "--nc", "--dt",
                     "--steps", "--t-end", "--G", "--particles", "--slab", "--profile", "--series",
                     "--every", "--csv")
@@ -49,7 +49,7 @@ class ChannelTestCase(DriverTestCase):
 
 
 class BadInput(ChannelTestCase):
-    """DESIGN.md section 8: one line naming the value (and the limit it broke), exit status
+    """docs/architecture.md, "Programs and their command lines": one line naming the value (and the limit it broke), exit status
     2, before anything is allocated or written."""
 
     # (arguments, patterns that the error line must contain, [numbers it must contain]).
@@ -454,7 +454,7 @@ class DriverRegressions(ChannelTestCase):
         # last three steps' energy budget, and for --series/--centroids) with the region
         # timers running.  That halo MPI wait and unpack are counted in halo_s and comm_s but
         # not in elapsed_s, so the regions add up to more than the slowest rank's time
-        # (DESIGN.md section 7: time only the measured steps).  Seen here: 6-10 % over on
+        # (docs/numerics.md, "Timer regions and the communication fraction": time only the measured steps).  Seen here: 6-10 % over on
         # 2 ranks, 16^3, 3 steps.  Three runs, so that one lucky timing cannot pass it.
         for n in range(3):
             self.run_ok(SMALL + ["--comm", "async", "--csv", "async.csv"], ranks=2)

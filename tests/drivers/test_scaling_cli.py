@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """End-to-end tests of the experiment drivers weak_scaling, strong_scaling and accuracy
-through their command lines (DESIGN.md sections 5 and 8; issue 5).
+through their command lines (docs/numerics.md, "Experiments", and docs/architecture.md, "Programs and their command lines"; issue 5).
 
 Rows with exactly the section-8 columns first, numbers where numbers belong, valid = 1 and a
 communication fraction in [0, 1], on 1 and 2 ranks; the weak-scaling box growing with the

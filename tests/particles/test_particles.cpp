@@ -1,4 +1,4 @@
-// Particles (DESIGN.md section 4) and the centroid diagnostic (section 6): the paper's
+// Particles (docs/numerics.md, "Particles") and the centroid diagnostic (section 6): the paper's
 // particle counts, orientations that depend on the site alone, placement checks that
 // pass for the paper's set-up and fail with the numbers for overrides, a solid fraction
 // with the Evans-Fung volume that is bitwise the same on every decomposition, and

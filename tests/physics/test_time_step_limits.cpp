@@ -1,4 +1,4 @@
-// Explicit time-step limits: the paper's experiments (DESIGN.md section 5) pass, a dt ten times
+// Explicit time-step limits: the paper's experiments (docs/numerics.md, "Experiments") pass, a dt ten times
 // over each limit is refused with a message naming that limit, and the limits have the values
 // of their formulas.
 #include <gtest/gtest.h>

@@ -1,4 +1,4 @@
-// The FSI solver with the SMAC pressure corrections (DESIGN.md 3.2, 3.3) and the
+// The FSI solver with the SMAC pressure corrections (docs/numerics.md, "SMAC") and the
 // Crank-Nicolson stress: SOR bitwise the same on every decomposition and in both halo
 // modes, SOR tending to the exact FFT correction as its sweeps grow, start-up Poiseuille
 // flow at second order, Crank-Nicolson at second order in time, its fixed-point sweeps

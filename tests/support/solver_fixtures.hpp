@@ -39,7 +39,7 @@ inline Channel make_channel(MPI_Comm comm, const Domain& dom, const Int3& dims, 
 // The paper's weak-scaling block, 3.6^3 with its 2 particles, at n^3 cells.
 inline Domain paper_block(int n) { return Domain{{n, n, n}, {3.6, 3.6, 3.6}}; }
 
-// Start-up Poiseuille flow between walls at y = 0 and y = h (DESIGN.md section 6).
+// Start-up Poiseuille flow between walls at y = 0 and y = h (docs/numerics.md, "Validation cases").
 inline double poiseuille_startup(double y, double t, double h, double f, double mu, double rho) {
   double u = f / (2 * mu) * y * (h - y);
   const double pi = std::acos(-1.0);

@@ -1,6 +1,6 @@
 #pragma once
-// The explicit artificial-compressibility method with adaptive parameters (DESIGN.md
-// section 3.1): dp = -beta^2 dt (gamma p + D*), beta and gamma chosen every step to
+// The explicit artificial-compressibility method with adaptive parameters (docs/numerics.md,
+// "ACM"): dp = -beta^2 dt (gamma p + D*), beta and gamma chosen every step to
 // minimise the mean square of the next divergence, from one MPI_Allreduce of 7 numbers.
 #include <array>
 

@@ -376,8 +376,8 @@ void FftPoisson::solve(const Field& rhs, Field& x, double factor) {
 
   if (timers_) {
     const double mpi = t1_.mpi_seconds + t2_.mpi_seconds + t3_.mpi_seconds;
-    timers_->add(Region::transpose_mpi, mpi);
-    timers_->add(Region::fft_solve, MPI_Wtime() - start - mpi);
+    timers_->add(kTransposeRegion, mpi);
+    timers_->add(kFftSolveRegion, MPI_Wtime() - start - mpi);
   }
 }
 

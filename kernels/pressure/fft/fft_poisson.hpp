@@ -1,5 +1,5 @@
 #pragma once
-// Exact solver of the discrete pressure Poisson equation (DESIGN.md section 3.3).
+// Exact solver of the discrete pressure Poisson equation (docs/numerics.md, "Exact FFT solver").
 //
 // Lap x = rhs on the cell centres, with Lap the 7-point operator of acm.hpp's `laplacian`:
 // periodic in x and z, zero flux through the walls in y (even-mirrored ghosts).
@@ -29,6 +29,10 @@
 
 namespace efsi {
 
+// The solve's timer regions: FFTs, Thomas and reordering; the transposes' MPI_Alltoallv.
+inline const Region kFftSolveRegion = define_region("fft_solve", false);
+inline const Region kTransposeRegion = define_region("transpose_mpi", true);
+
 class FftPoisson {
  public:
   // estimate: FFTW_ESTIMATE (instant set-up); measure: FFTW_MEASURE (set-up times the
@@ -37,8 +41,8 @@ class FftPoisson {
 
   // Collective over decomp.comm().  domain.cells must equal decomp.global().
   // FFTW runs with omp_get_max_threads() threads.
-  // timers (optional): the solve's MPI_Alltoallv time goes to Region::transpose_mpi, the
-  // rest of it to Region::fft_solve.
+  // timers (optional): the solve's MPI_Alltoallv time goes to kTransposeRegion (counted as
+  // communication), the rest of it to kFftSolveRegion.
   FftPoisson(const CartDecomposition& decomp, const Domain& domain, Planning planning = Planning::measure,
              RegionTimers* timers = nullptr);
   ~FftPoisson();

@@ -19,7 +19,7 @@ void SmacSorPressure::attach(const CartDecomposition& decomp, const Domain& doma
 
 void SmacSorPressure::increment(PressureInputs& in) {
   {
-    RegionTimers::Scope t(&in.timers, Region::sor_sweeps);
+    RegionTimers::Scope t(&in.timers, kSorSweepsRegion);
     in.work.dp.fill(0.0);
   }
   // The sweeps leave dp's ghosts current, the low face ghosts included.

@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "paper_constants.hpp"
 #include "pressure_method.hpp"
 #include "sor_poisson.hpp"
 
@@ -14,7 +15,7 @@ namespace efsi {
 class SmacSorPressure final : public PressureMethod {
  public:
   // sweeps: N_S per step (>= 1).
-  SmacSorPressure(CommMode comm, int sweeps, double omega = 1.6);
+  SmacSorPressure(CommMode comm, int sweeps, double omega = paper::kSorOmega);
   void attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work, RegionTimers& timers) override;
   void increment(PressureInputs& in) override;
   const PressureReport& report() const override { return report_; }

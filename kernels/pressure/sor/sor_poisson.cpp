@@ -8,16 +8,21 @@
 
 namespace efsi {
 
+void check_sor_grid(const Int3& cells) {
+  // The colouring (i mod 2) + 2 ((j + k) mod 2) would give neighbours across the wrap the
+  // same colour.
+  if (cells[X] % 2 != 0 || cells[Z] % 2 != 0)
+    throw ConfigError("method sor needs even cell counts in x and z (four-colour ordering across the periodic "
+                      "wrap); cells are " + to_string(cells));
+}
+
 namespace {
 
 // Runs before the HaloExchange member is built, so that a bad set-up throws on every
 // rank before anything collective.
 Field& checked(const CartDecomposition& decomp, const Domain& domain, Field& x, double omega) {
   const Int3& g = decomp.global();
-  if (g[X] % 2 != 0 || g[Z] % 2 != 0)
-    throw ConfigError("four-colour SOR needs even global cell counts in the periodic directions x and z "
-                      "(the colouring (i mod 2) + 2 ((j + k) mod 2) would give neighbours across the wrap the "
-                      "same colour); grid is " + to_string(g));
+  check_sor_grid(g);
   if (domain.cells != g)
     throw ConfigError("SOR: domain cells " + to_string(domain.cells) + " differ from the decomposition's grid " +
                       to_string(g));
@@ -142,7 +147,7 @@ void SorPoisson::update_interior(const Field& rhs, double factor, int colour) {
     slab.lo[Z] = inner_.lo[Z] + nk * s / kSlabs;
     slab.hi[Z] = inner_.lo[Z] + nk * (s + 1) / kSlabs;
     {
-      RegionTimers::Scope t(timers_, Region::sor_sweeps);
+      RegionTimers::Scope t(timers_, kSorSweepsRegion);
       update(rhs, factor, colour, slab);
     }
     halo_.progress();
@@ -150,7 +155,7 @@ void SorPoisson::update_interior(const Field& rhs, double factor, int colour) {
 }
 
 void SorPoisson::update_boundary(const Field& rhs, double factor, int colour) {
-  RegionTimers::Scope t(timers_, Region::sor_sweeps);
+  RegionTimers::Scope t(timers_, kSorSweepsRegion);
   for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, factor, colour, b); });
 }
 
@@ -161,7 +166,7 @@ void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
     for (int s = 0; s < n; ++s)
       for (int c = 0; c < 4; ++c) {
         {
-          RegionTimers::Scope t(timers_, Region::sor_sweeps);
+          RegionTimers::Scope t(timers_, kSorSweepsRegion);
           update(rhs, factor, c, owned_);
         }
         halo_.exchange();

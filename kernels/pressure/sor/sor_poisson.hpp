@@ -1,5 +1,5 @@
 #pragma once
-// Four-colour SOR for the discrete pressure Poisson equation Lap x = rhs (DESIGN.md 3.2).
+// Four-colour SOR for the discrete pressure Poisson equation Lap x = rhs (docs/numerics.md, "SMAC").
 //
 // Lap is the 7-point operator of laplacian.hpp: periodic in x and z, zero flux
 // through the walls in y.  A cell's colour comes from its GLOBAL indices,
@@ -25,10 +25,17 @@
 #include "decomposition.hpp"
 #include "domain.hpp"
 #include "field.hpp"
+#include "paper_constants.hpp"
 #include "halo_exchange.hpp"
 #include "region_timers.hpp"
 
 namespace efsi {
+
+// The colour updates' timer region.
+inline const Region kSorSweepsRegion = define_region("sor_sweeps", false);
+
+// Even global counts in the periodic directions x and z; throws ConfigError otherwise.
+void check_sor_grid(const Int3& cells);
 
 class SorPoisson {
  public:
@@ -36,7 +43,7 @@ class SorPoisson {
   // every rank alike, before any communication) for odd global x or z counts, a domain
   // that does not match the decomposition, or an unsuitable field.
   SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, CommMode comm,
-             RegionTimers* timers = nullptr, double omega = 1.6);
+             RegionTimers* timers = nullptr, double omega = paper::kSorOmega);
   SorPoisson(const SorPoisson&) = delete;
   SorPoisson& operator=(const SorPoisson&) = delete;
 

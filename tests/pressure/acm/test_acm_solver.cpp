@@ -226,7 +226,7 @@ TEST(AcmSolver, EnergyBudgetCloses) {
                 last.div_rms);
   EXPECT_LT(worst, 0.02);
   EXPECT_GT(std::fabs(last.eps_solid), 1e-3 * last.eps_fluid) << "the solid must take part in the budget";
-  // The non-conservative WENO transport of DESIGN.md conserves <phi> only to its
+  // The non-conservative WENO transport (docs/numerics.md) conserves <phi> only to its
   // truncation error: 1.8e-3 relative measured here (32 cells per 3.6, t = 0.3).
   EXPECT_NEAR(last.solid_fraction, d.front().solid_fraction, 5e-3 * d.front().solid_fraction);
 }

@@ -1,4 +1,4 @@
-// The exact FFT + tridiagonal Poisson solver (DESIGN.md 3.3): on every decomposition the
+// The exact FFT + tridiagonal Poisson solver (docs/numerics.md, "Exact FFT solver"): on every decomposition the
 // started rank count can make of several grids (non-cubic, non power-of-two, non-cubic
 // spacing), the solution of a manufactured problem satisfies the discrete 7-point equation
 // to round-off, equals the manufactured field (zero mean), and does not depend on the

@@ -1,4 +1,4 @@
-// Four-colour SOR (DESIGN.md 3.2) on every decomposition the started rank count can make
+// Four-colour SOR (docs/numerics.md, "SMAC") on every decomposition the started rank count can make
 // of a few small grids: sync and async leave bitwise the same field; the field after N
 // sweeps is bitwise the same on every decomposition and equal to a one-rank run on
 // MPI_COMM_SELF; with a manufactured right-hand side the residual falls by many orders
@@ -335,7 +335,7 @@ TEST(SorPoisson, Info64CubedSweepCountsAndTiming) {
         std::printf("[timing] grid %s on %d rank(s) %s: %.3f ms/sweep median (min %.3f, max %.3f); rank 0 per "
                     "sweep: sor_sweeps %.3f ms, halo_mpi %.3f, halo_wait %.3f, pack %.3f, unpack %.3f\n",
                     to_string(gt).c_str(), p, mode == CommMode::sync ? "sync " : "async", ms[kReps / 2], ms.front(),
-                    ms.back(), 1e3 * timers.get(Region::sor_sweeps) / sweeps,
+                    ms.back(), 1e3 * timers.get(kSorSweepsRegion) / sweeps,
                     1e3 * timers.get(Region::halo_mpi) / sweeps, 1e3 * timers.get(Region::halo_wait) / sweeps,
                     1e3 * timers.get(Region::halo_pack) / sweeps,
                     1e3 * timers.get(Region::halo_unpack) / sweeps);

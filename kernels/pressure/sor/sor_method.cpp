@@ -1,0 +1,81 @@
+// SMAC-SOR's registration (method_spec.hpp): N_S sweeps per step from --ns or from the
+// calibrated count for --eps, Crank-Nicolson stress with the paper's N_C by default, the
+// paper's 10 steps of 6.25e-5.
+#include <cmath>
+#include <cstdio>
+#include <string>
+
+#include "config_error.hpp"
+#include "method_spec.hpp"
+#include "paper_constants.hpp"
+#include "smac_sor.hpp"
+
+namespace efsi {
+namespace {
+
+std::string format_g(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%g", v);
+  return b;
+}
+
+// "1e-3", as the calibration's eps are written.
+std::string format_eps(double v) {
+  const int exponent = static_cast<int>(std::lround(std::log10(v)));
+  return std::pow(10.0, exponent) == v ? "1e" + std::to_string(exponent) : format_g(v);
+}
+
+int calibrated_sweeps(double eps) {
+  std::string known;
+  for (const auto& c : paper::kCalibratedSorSweeps) {
+    if (c.eps == eps) return c.sweeps;
+    known += (known.empty() ? "" : ", ") + format_eps(c.eps);
+  }
+  throw ConfigError("no calibrated SOR sweep count for --eps " + format_g(eps) + " (calibrated: " + known +
+                    "); give --ns, or find one with --calibrate");
+}
+
+class SorSpec final : public MethodSpec {
+ public:
+  std::string name() const override { return "sor"; }
+  std::string summary() const override { return "SMAC with N_S four-colour SOR sweeps per step"; }
+  std::vector<MethodOption> options() const override {
+    return {{"--eps", "SOR residual ratio: picks the calibrated N_S (1e-3 or 1e-4; default 1e-3), or the target of "
+                      "--calibrate", false},
+            {"--ns", "SOR sweeps per step N_S (overrides --eps)", true}};
+  }
+  int default_cn_sweeps() const override { return paper::kCnSweeps; }
+  ScalingDefaults scaling_defaults() const override { return {paper::kSmacDt, paper::kSmacSteps}; }
+
+  void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const override {
+    const auto eps = given.find("--eps"), ns = given.find("--ns");
+    if (eps != given.end() && !(eps->second > 0 && eps->second < 1))
+      throw ConfigError("--eps " + format_g(eps->second) + " must lie in (0, 1)");
+    if (ns != given.end() && ns->second < 1)
+      throw ConfigError("--ns " + format_g(ns->second) + " must be at least 1");
+    const double e = eps != given.end() ? eps->second : paper::kDefaultSorEps;
+    choice.values["eps"] = e;
+    if (calibrating) return;  // the calibration counts the sweeps; it needs none
+    const int sweeps = ns != given.end() ? static_cast<int>(ns->second) : calibrated_sweeps(e);
+    choice.values["ns"] = sweeps;
+    choice.report["ns_per_step"] = std::to_string(sweeps);
+    // The eps that chose N_S; none when --ns alone set it.
+    if (ns == given.end() || eps != given.end()) choice.report["eps"] = format_g(e);
+    choice.banner = "N_S = " + std::to_string(sweeps) + " SOR sweeps per step";
+  }
+
+  void check_grid(const Int3& cells) const override { check_sor_grid(cells); }
+
+  std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const override {
+    return std::make_unique<SmacSorPressure>(build.comm, static_cast<int>(choice.value("ns")), paper::kSorOmega);
+  }
+};
+
+}  // namespace
+
+const MethodSpec& sor_method() {
+  static const SorSpec spec;
+  return spec;
+}
+
+}  // namespace efsi

@@ -1,0 +1,79 @@
+#pragma once
+// How a pressure method presents itself to the rest of the suite (docs/architecture.md,
+// "Adding a pressure method"): its name, its options with their checks and the paper's
+// defaults, what it reports in the CSV and the banner, the memory it needs beyond its
+// Fields, and how to build it.  Its timer regions it defines itself (region_timers.hpp,
+// define_region).  Each method folder under kernels/pressure/ implements one MethodSpec;
+// the registry lists them all.
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "comm_mode.hpp"
+#include "grid_types.hpp"
+#include "pressure_method.hpp"
+
+namespace efsi {
+
+struct MethodOption {
+  std::string flag;  // "--ns"
+  std::string help;
+  bool integer = false;  // a count: a fractional value is refused
+};
+
+// The values given on the command line for the methods' options, by flag ("--ns" -> 40);
+// a flag that was not given is absent.
+using OptionValues = std::map<std::string, double>;
+
+// A scaling run's time step and measured steps when the user gives none.
+struct ScalingDefaults {
+  double dt;
+  long steps;
+};
+
+class MethodSpec;
+
+// A method configured for a run: everything the run needs from it besides the solver's
+// own configuration.
+struct MethodChoice {
+  const MethodSpec* spec = nullptr;
+  std::map<std::string, double> values;       // resolved settings by name ("ns" -> 213)
+  int cn_sweeps = 0;                          // N_C: --nc, else the method's default
+  std::map<std::string, std::string> report;  // the CSV cells it fills ("eps", "ns_per_step")
+  std::string banner;                         // one line on what it chose ("" for nothing)
+
+  std::string name() const;
+  double value(const std::string& key) const;  // a resolved setting; std::logic_error if absent
+};
+
+// What building a method needs besides its choice.
+struct MethodBuild {
+  CommMode comm = CommMode::sync;
+  // Whether the method may pick among equivalent algorithms by timing them (FFTW_MEASURE).
+  // The bitwise tests and the counted CI gate need the same choice every run.
+  bool timed_planning = true;
+};
+
+class MethodSpec {
+ public:
+  virtual ~MethodSpec() = default;
+  virtual std::string name() const = 0;
+  virtual std::string summary() const = 0;  // one line for --help
+  virtual std::vector<MethodOption> options() const { return {}; }
+  virtual bool supports(CommMode) const { return true; }
+  virtual int default_cn_sweeps() const { return 0; }
+  // Throws ConfigError for a global grid the method cannot work on (before allocating).
+  virtual void check_grid(const Int3& /*cells*/) const {}
+  virtual ScalingDefaults scaling_defaults() const = 0;
+  // Resolves and checks the method's own settings from `given` (only its own flags), and
+  // fills choice.values, report and banner; throws ConfigError naming the value and the
+  // limit.  `calibrating`: for a run that only calibrates the method (SOR's N_S).
+  virtual void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const = 0;
+  virtual std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const = 0;
+  // Bytes per rank beyond the Fields the method makes (those the memory model records
+  // itself), for a local block of `local` cells.
+  virtual double extra_bytes(const Int3& /*local*/) const { return 0.0; }
+};
+
+}  // namespace efsi
