@@ -22,8 +22,9 @@ struct RunRequest {
 
 struct RunOutcome {
   bool valid = false;                  // finite, divergence and energy budget in bounds
-  std::unique_ptr<FsiSolver> solver;   // the final state, for drivers that write fields
+  // Declared before the solver, which refers to it: members are destroyed in reverse order.
   std::unique_ptr<CartDecomposition> decomp;
+  std::unique_ptr<FsiSolver> solver;   // the final state, for drivers that write fields
 };
 
 // Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating.

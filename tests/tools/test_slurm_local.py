@@ -122,7 +122,7 @@ class CampaignUnderSlurm(unittest.TestCase):
                 self.assertEqual((f.get("JobState"), f.get("ExitCode")), ("COMPLETED", "0:0"), text[-3000:])
                 self.assertEqual((int(f["NumTasks"]), int(f["CPUs/Task"])), (ranks, threads))
                 self.assertEqual(text.count("+ srun --mpi=pmix "), 2, text)  # acm-sync, sor-async-1e-3
-                self.assertEqual(len(re.findall(r"(?m)^validation: .*: SUCCESSFUL$", text)), 2, text)
+                self.assertEqual(len(re.findall(r"(?m)^validation: .*: PASSED$", text)), 2, text)
 
     def test_one_csv_per_job_gathered_by_collect(self):
         self.assertEqual(self.collect.returncode, 0, self.collect.stderr)

@@ -2,7 +2,7 @@
 
 Each check runs a small case of its driver on `ranks` MPI ranks (2) with `threads` OpenMP
 threads (1) and
-- is sane when the driver prints its validation line ending in SUCCESSFUL, its banner names
+- is sane when the driver prints its validation line ending in PASSED, its banner names
   the method and the rank count, and its CSV row (run.csv) is one valid, not oversubscribed
   row of that method, rank and thread count;
 - reports elapsed (slowest rank, measured steps), M cell updates/s and the communication
@@ -99,7 +99,7 @@ class EfsiDriverCheck(rfm.RunOnlyRegressionTest):
         rows = csv_rows(os.path.join(self.stagedir, "run.csv"))
         row = rows[0]
         return sn.all([
-            sn.assert_found(r"^validation: .*: SUCCESSFUL$", self.stdout),
+            sn.assert_found(r"^validation: .*: PASSED$", self.stdout),
             sn.assert_found(rf"^{self.driver}: {self.method}, \w+ halo, {self.ranks} ranks as ", self.stdout),
             sn.assert_eq(sn.len(rows), 1, msg="run.csv holds {0} rows, not {1}"),
             sn.assert_eq(row["method"], self.method),
