@@ -194,7 +194,7 @@ class DriverTestCase(unittest.TestCase):
 
     def check_header(self, header):
         self.assertEqual(header[:len(SECTION8_COLUMNS)], SECTION8_COLUMNS,
-                         "the CSV header must begin with the columns of docs/numerics.md, "Output: the CSV run record", in order")
+                         "the CSV header must begin with the columns of docs/numerics.md, 'Output: the CSV run record', in order")
         self.assertEqual(len(set(header)), len(header), "repeated column in %s" % header)
         self.assertEqual(header[len(SECTION8_COLUMNS):], SUITE_COLUMNS, "the suite's own columns follow")
 
