@@ -15,6 +15,7 @@
 #include "config_error.hpp"
 #include "driver_support.hpp"
 #include "field_gather.hpp"
+#include "method_options.hpp"
 #include "runtime.hpp"
 #include "vtk_image.hpp"
 
@@ -61,7 +62,7 @@ int run(const Options& o) {
   if (methods.empty()) throw ConfigError("--methods '" + o.methods + "' names no method");
   if (o.cells < 1) throw ConfigError("--cells " + std::to_string(o.cells) + " must be at least 1");
   if (!(o.length > 0)) throw ConfigError("--length " + std::to_string(o.length) + " must be positive");
-  if (!(o.dt > 0)) throw ConfigError("--dt " + std::to_string(o.dt) + " must be positive");
+  check_time_step_value(o.dt, "--dt");
   if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
   const long total = std::lround(o.t_end / o.dt);
   if (total < 2) throw ConfigError("--t-end " + std::to_string(o.t_end) + " is under two steps of --dt");
@@ -134,7 +135,7 @@ int run(const Options& o) {
   for (const RunOutcome& r : runs) valid = valid && r.valid;
   if (is_root()) {
     std::fputs(text.c_str(), stdout);
-    write_file(dir + "/comparison.txt", text);
+    write_text_file(dir + "/comparison.txt", text);
   }
   return valid ? 0 : 4;
 }

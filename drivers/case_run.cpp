@@ -1,7 +1,6 @@
 #include "case_run.hpp"
 
 #include <mpi.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +16,7 @@
 #include "hybrid_layout.hpp"
 #include "run_record.hpp"
 #include "runtime.hpp"
+#include "text_file.hpp"
 #include "timing_report.hpp"
 
 namespace efsi {
@@ -117,24 +117,6 @@ Validation validate(const std::vector<FlowDiagnostics>& tail, const Domain& dom)
 
 }  // namespace
 
-void check_writable(const std::string& path, const char* option) {
-  if (path.empty()) return;
-  int ok = 1;
-  if (is_root()) {
-    const auto slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-    ok = ::access(dir.c_str(), W_OK) == 0 && (::access(path.c_str(), F_OK) != 0 || ::access(path.c_str(), W_OK) == 0);
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (!ok) throw ConfigError(std::string(option) + " '" + path + "' cannot be written");
-}
-
-void write_file(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::trunc);
-  f << text;
-  if (!f) throw std::runtime_error("cannot write " + path);
-}
-
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
   for (const auto& [path, opt] : {std::pair{req.profile, "--profile"},
                                   {req.series, "--series"},
@@ -229,9 +211,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 
   const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());
   if (is_root()) {
-    if (!req.profile.empty()) write_file(req.profile, prof);
-    if (!req.series.empty()) write_file(req.series, series);
-    if (!req.centroids.empty()) write_file(req.centroids, centroid_rows);
+    if (!req.profile.empty()) write_text_file(req.profile, prof);
+    if (!req.series.empty()) write_text_file(req.series, series);
+    if (!req.centroids.empty()) write_text_file(req.centroids, centroid_rows);
     if (!req.csv.empty()) {
       RunRecord r;
       r.experiment = req.experiment;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "channel_case.hpp"
+#include "text_file.hpp"
 
 namespace efsi {
 
@@ -35,11 +36,5 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 // ("" for none). Returns the exit status: 0 when the run's checks passed, 4 otherwise.
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
                      const std::string& csv);
-
-// Collective. Throws ConfigError when `path` cannot be created or written; creates nothing.
-void check_writable(const std::string& path, const char* option);
-
-// Writes (truncates) a text file; throws std::runtime_error naming it.
-void write_file(const std::string& path, const std::string& text);
 
 }  // namespace efsi

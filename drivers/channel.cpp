@@ -66,7 +66,7 @@ int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle
     std::ostringstream t;
     t << "sweep,relative_residual\n";
     for (std::size_t m = 0; m < cal.history.size(); ++m) t << m + 1 << ',' << cal.history[m] << '\n';
-    write_file(o.series, t.str());
+    write_text_file(o.series, t.str());
   }
   return reached ? 0 : 4;
 }

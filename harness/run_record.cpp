@@ -1,8 +1,5 @@
 #include "run_record.hpp"
 
-#include <fcntl.h>
-#include <sys/file.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -12,6 +9,8 @@
 #include <sstream>
 #include <stdexcept>
 #include <thread>
+
+#include "text_file.hpp"
 
 #ifndef EFSI_GIT_SHA
 #define EFSI_GIT_SHA "unknown"
@@ -124,32 +123,7 @@ std::string csv_row(const RunRecord& r) {
 void append_csv(const std::string& path, const RunRecord& r) {
   std::string header;
   for (const auto& c : csv_columns()) header += (header.empty() ? "" : ",") + c;
-  header += '\n';
-  const std::string row = csv_row(r);
-
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-  if (fd < 0) throw std::runtime_error("cannot open CSV file " + path + ": " + std::strerror(errno));
-  if (::flock(fd, LOCK_EX) != 0) {
-    ::close(fd);
-    throw std::runtime_error("cannot lock CSV file " + path + ": " + std::strerror(errno));
-  }
-  struct stat st {};
-  ::fstat(fd, &st);
-  const std::string out = st.st_size == 0 ? header + row : row;
-  // One write of the whole text while holding the lock.
-  std::size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t w = ::write(fd, out.data() + done, out.size() - done);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      ::flock(fd, LOCK_UN);
-      ::close(fd);
-      throw std::runtime_error("cannot write CSV file " + path + ": " + std::strerror(errno));
-    }
-    done += static_cast<std::size_t>(w);
-  }
-  ::flock(fd, LOCK_UN);
-  ::close(fd);
+  append_locked(path, header + '\n', csv_row(r));
 }
 
 }  // namespace efsi

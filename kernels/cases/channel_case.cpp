@@ -26,7 +26,6 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
       throw ConfigError("box length " + std::to_string(d.length[a]) + " must be positive");
   choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
   c.method.spec->check_grid(d.cells);
-  if (!(c.solver.dt > 0)) throw ConfigError("dt=" + std::to_string(c.solver.dt) + " must be positive");
   const Physics& ph = c.solver.physics;
   check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, std::fabs(ph.force)));
   if (c.solver.cn_sweeps > 0) check_crank_nicolson_step(c.solver.dt, d, ph.rho, ph.mu);

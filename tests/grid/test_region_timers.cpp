@@ -1,5 +1,5 @@
 // Region timers summarised over ranks: min, mean and max, the slowest rank's elapsed
-// time, and the communication fraction = mean (halo MPI + reduce) / max elapsed.
+// time, and the communication fraction = mean (halo MPI + halo wait + reduce + the regions defined as communication) / max elapsed.
 #include <gtest/gtest.h>
 #include <mpi.h>
 

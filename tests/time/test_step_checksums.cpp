@@ -1,9 +1,9 @@
 // Bitwise reference of whole steps: a checksum of every state field after 20 steps of each
 // pressure method in both halo modes, on 2 ranks, compared with the checksums recorded in
-// tests/data/step_checksums.txt.  The fields must not change by one bit under a change that
+// tests/time/data/step_checksums.txt.  The fields must not change by one bit under a change that
 // only reorganises the code (a refactoring, a new integrator beside explicit Euler); a change
 // that is meant to round differently records new checksums, deliberately:
-//   EFSI_WRITE_CHECKSUMS=tests/data/step_checksums.txt mpirun -n 2 build/bin/test_step_checksums
+//   EFSI_WRITE_CHECKSUMS=tests/time/data/step_checksums.txt mpirun -n 2 build/bin/test_step_checksums
 // The set-up: the paper's block (3.6^3, 2 particles) per rank at 32^3, ranks side by side in
 // x, G = 50, started in the laminar Poiseuille flow, FFT plans by estimate (a measured plan
 // may round differently).
