@@ -14,6 +14,11 @@ function(efsi_add_mpi_test name target)
   endif()
   foreach(np IN LISTS T_RANKS)
     set(test_name ${name}_np${np}${suffix})
+    # Open MPI 4.1 creates its session directory (TMPDIR/ompi.HOST.UID) without tolerating a
+    # concurrent mkdir, so two tests launched at the same moment can fail with "File exists":
+    # each test gets a base directory of its own.
+    set(session ${CMAKE_BINARY_DIR}/ompi-sessions/${test_name})
+    file(MAKE_DIRECTORY ${session})
     add_test(NAME ${test_name}
       COMMAND ${MPIEXEC_EXECUTABLE} ${MPIEXEC_NUMPROC_FLAG} ${np} --oversubscribe
               ${MPIEXEC_PREFLAGS} $<TARGET_FILE:${target}> ${MPIEXEC_POSTFLAGS} ${T_ARGS})
@@ -21,6 +26,6 @@ function(efsi_add_mpi_test name target)
       TIMEOUT ${T_TIMEOUT}
       PROCESSORS ${np}
       LABELS "mpi"
-      ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;OMP_NUM_THREADS=${T_THREADS};ASAN_OPTIONS=detect_leaks=0")
+      ENVIRONMENT "OMPI_ALLOW_RUN_AS_ROOT=1;OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1;OMPI_MCA_rmaps_base_oversubscribe=1;OMPI_MCA_btl_vader_single_copy_mechanism=none;OMP_NUM_THREADS=${T_THREADS};ASAN_OPTIONS=detect_leaks=0;OMPI_MCA_orte_tmpdir_base=${session}")
   endforeach()
 endfunction()

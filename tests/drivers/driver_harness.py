@@ -5,6 +5,7 @@ against the launch that wrote it (docs/architecture.md, "Programs and their comm
 
 Standard library only. BIN_DIR is set by main() from --bin-dir or EFSI_BIN_DIR."""
 
+import atexit
 import csv
 import datetime
 import io
@@ -58,8 +59,15 @@ def channel_path():
     return program_path("channel")
 
 
+# Open MPI's session directories under a base of this process's own (Open MPI 4.1 does not
+# tolerate two launches creating TMPDIR/ompi.HOST.UID at the same moment).
+SESSION_BASE = tempfile.mkdtemp(prefix="efsi_ompi_")
+atexit.register(shutil.rmtree, SESSION_BASE, True)
+
+
 def test_env(threads=1):
     env = dict(os.environ)
+    env.setdefault("OMPI_MCA_orte_tmpdir_base", SESSION_BASE)
     env.update({
         "OMPI_ALLOW_RUN_AS_ROOT": "1",
         "OMPI_ALLOW_RUN_AS_ROOT_CONFIRM": "1",

@@ -285,7 +285,15 @@ class CsvRecord(ChannelTestCase):
     def test_eight_concurrent_runs_append_eight_whole_rows(self):
         t0 = time.monotonic()
         # Distinct step counts tell the rows apart: each run's row must be there once.
-        procs = [start(SMALL[:-1] + [str(steps), "--csv", "shared.csv"], cwd=self.dir) for steps in range(1, 9)]
+        # Each launch gets its own Open MPI session directory: Open MPI 4.1 creates
+        # /tmp/ompi.HOST.UID without tolerating a concurrent mkdir ("File exists"), and eight
+        # launches at once race on it; the CSV lock is what this test is about.
+        procs = []
+        for steps in range(1, 9):
+            session = self.path("ompi-%d" % steps)
+            os.mkdir(session)
+            procs.append(start(SMALL[:-1] + [str(steps), "--csv", "shared.csv"], cwd=self.dir,
+                               extra_env={"OMPI_MCA_orte_tmpdir_base": session}))
         results = [finish(p, RUN_TIMEOUT, t0) for p in procs]
         for steps, res in enumerate(results, start=1):
             self.assertFalse(res.timed_out, str(res))
