@@ -1,14 +1,23 @@
 #include "smac_sor.hpp"
 
+#include <cstdio>
 #include <string>
 
 #include "config_error.hpp"
 
 namespace efsi {
 
+void check_sor_sweeps(double sweeps, const std::string& what) {
+  if (!(sweeps >= 1)) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%g", sweeps);
+    throw ConfigError(what + " " + b + " must be at least 1");
+  }
+}
+
 SmacSorPressure::SmacSorPressure(CommMode comm, int sweeps, double omega)
     : comm_(comm), sweeps_(sweeps), omega_(omega) {
-  if (sweeps < 1) throw ConfigError("SOR sweeps per step N_S=" + std::to_string(sweeps) + " must be at least 1");
+  check_sor_sweeps(sweeps, "SOR sweeps per step N_S");
   report_.sweeps = sweeps;
 }
 

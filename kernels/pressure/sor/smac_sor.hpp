@@ -4,6 +4,7 @@
 // is also the factor by which the step reduces the divergence; no global reduction at all
 // (the mean of p is left free).
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "paper_constants.hpp"
@@ -11,6 +12,9 @@
 #include "sor_poisson.hpp"
 
 namespace efsi {
+
+// N_S, the sweeps per step, is at least 1; throws ConfigError naming `what` ("--ns") otherwise.
+void check_sor_sweeps(double sweeps, const std::string& what);
 
 class SmacSorPressure final : public PressureMethod {
  public:

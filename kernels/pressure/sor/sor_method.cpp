@@ -51,8 +51,7 @@ class SorSpec final : public MethodSpec {
     const auto eps = given.find("--eps"), ns = given.find("--ns");
     if (eps != given.end() && !(eps->second > 0 && eps->second < 1))
       throw ConfigError("--eps " + format_g(eps->second) + " must lie in (0, 1)");
-    if (ns != given.end() && ns->second < 1)
-      throw ConfigError("--ns " + format_g(ns->second) + " must be at least 1");
+    if (ns != given.end()) check_sor_sweeps(ns->second, "--ns");
     const double e = eps != given.end() ? eps->second : paper::kDefaultSorEps;
     choice.values["eps"] = e;
     if (calibrating) return;  // the calibration counts the sweeps; it needs none
