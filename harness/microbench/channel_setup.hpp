@@ -2,7 +2,7 @@
 // The paper's weak-scaling channel block for the micro-benchmarks: `block`^3 cells of 3.6^3
 // per rank (one lattice cell, two body-centred particles), ranks side by side in x (global
 // cells {block P, block, block}, box {3.6 P, 3.6, 3.6}), G = 50, built the way every driver
-// builds a run: ChannelCase -> validate_case -> CartDecomposition -> build_solver.
+// builds a run: weak_block_case -> validate_case -> CartDecomposition -> build_solver.
 // bench_step uses it at block 64; bench_kernels at 32 and 64 (the box stays 3.6^3 per rank,
 // so 32^3 has twice the spacing and the same particles).
 #include <mpi.h>
@@ -18,9 +18,6 @@
 #include "particles.hpp"
 
 namespace efsi::bench {
-
-inline constexpr double kBlockLen = paper::kBlockLength;  // per rank per axis: one lattice cell, 2 particles
-inline constexpr double kShearModulus = paper::kShearModulus;
 
 // One method's settings for a whole step.
 struct StepCase {
@@ -63,18 +60,13 @@ struct ChannelSetup {
   ChannelSetup(const StepCase& m, int block, bool timed_planning = true) {
     int p = 1;
     MPI_Comm_size(MPI_COMM_WORLD, &p);
-    c.domain.cells = {block * p, block, block};
-    c.domain.length = {kBlockLen * p, kBlockLen, kBlockLen};
+    c = weak_block_case(block, p);
     c.solver.dt = m.dt;
-    c.solver.physics.G = kShearModulus;
     c.solver.comm = m.mode;
     OptionValues given;
     if (m.ns > 0) given["--ns"] = m.ns;
     choose_method(c, configure_method(m.method, given, m.nc));
     c.timed_planning = timed_planning;
-    // Every lattice site of the box: 2 per 3.6^3 lattice cell, i.e. 2 per rank.
-    c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
-    c.forced_dims = {p, 1, 1};
     // t_end only bounds the a-priori velocity for the time-step check: a generous run length.
     particles = validate_case(c, p, 1000 * m.dt);
     dec = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);

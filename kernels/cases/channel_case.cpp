@@ -13,6 +13,16 @@ void choose_method(ChannelCase& c, MethodChoice m) {
   c.method = std::move(m);
 }
 
+ChannelCase weak_block_case(int block, int ranks) {
+  ChannelCase c;
+  c.domain.cells = {block * ranks, block, block};
+  c.domain.length = {paper::kBlockLength * ranks, paper::kBlockLength, paper::kBlockLength};
+  c.solver.physics.G = paper::kShearModulus;
+  c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
+  c.forced_dims = {ranks, 1, 1};
+  return c;
+}
+
 double poiseuille_centre_velocity(const ChannelCase& c) {
   return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
 }

@@ -26,6 +26,11 @@ struct ChannelCase {
   bool timed_planning = true;
 };
 
+// The paper's weak-scaling block on `ranks` ranks side by side in x: `block`^3 cells on
+// 3.6^3 per rank, a particle on every lattice site (2 per rank), G = 50; the method, time
+// step and halo mode are the caller's.
+ChannelCase weak_block_case(int block, int ranks);
+
 // The method and the Crank-Nicolson sweeps it asks for (c.solver.cn_sweeps).
 void choose_method(ChannelCase& c, MethodChoice m);
 

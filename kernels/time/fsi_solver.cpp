@@ -99,10 +99,10 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
 
   tendencies(in);  // stress, dv/dt, dphi/dt and dBt/dt
   complete(StepExchange::state);
-  if (split) shell_tendencies(full, in, false);
+  if (split) shell_stress_and_momentum(full, in);
   predict(full.momentum);  // v* = v + dt dv/dt
   post(StepExchange::vstar);
-  if (split) shell_tendencies(full, in, true);
+  if (split) shell_transport(full, in);
   advance_solid(full.transport);  // phi, Bt + dt d/dt
   complete(StepExchange::vstar);
   // Its sweeps exchange v* in all 26 directions, the last one included.
@@ -129,15 +129,17 @@ void FsiSolver::tendencies(const KernelBoxes& b) {
   transport_tendency(s, work_.phi_new, work_.B_new, b.transport);
 }
 
-void FsiSolver::shell_tendencies(const KernelBoxes& full, const KernelBoxes& in, bool transport) {
+void FsiSolver::shell_transport(const KernelBoxes& full, const KernelBoxes& in) {
+  RegionTimers::Scope t(&timers_, Region::compute);
+  const FieldSet s = state_.fields();
+  for_each_shell_box(full.transport, in.transport,
+                     [&](const Box& b) { transport_tendency(s, work_.phi_new, work_.B_new, b); });
+}
+
+void FsiSolver::shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
   const Physics& ph = config_.physics;
-  if (transport) {
-    for_each_shell_box(full.transport, in.transport,
-                       [&](const Box& b) { transport_tendency(s, work_.phi_new, work_.B_new, b); });
-    return;
-  }
   for_each_shell_box(full.stress_centres, in.stress_centres,
                      [&](const Box& b) { compute_stress(s, ph, work_.tau, b, Box{}); });
   for_each_shell_box(full.stress_edges, in.stress_edges,

@@ -72,7 +72,8 @@ class FsiSolver final : public Stepper {
   };
   SubstepResult euler_substep(const IntegratorStage& stage);
   void tendencies(const KernelBoxes& boxes);
-  void shell_tendencies(const KernelBoxes& full, const KernelBoxes& in, bool transport);
+  void shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in);
+  void shell_transport(const KernelBoxes& full, const KernelBoxes& in);
   void predict(const Box& faces);
   void advance_solid(const Box& cells);
   double compute_divergence();

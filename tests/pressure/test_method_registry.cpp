@@ -64,17 +64,13 @@ TEST(MethodRegistry, EveryMethodStepsInBothHaloModes) {
     for (CommMode mode : {CommMode::sync, CommMode::async}) {
       if (!m->supports(mode)) continue;
       SCOPED_TRACE(m->name() + "/" + to_string(mode));
-      ChannelCase c;
-      c.domain.cells = {32 * p, 32, 32};
-      c.domain.length = {paper::kBlockLength * p, paper::kBlockLength, paper::kBlockLength};
+      ChannelCase c = weak_block_case(32, p);
       c.solver.dt = m->scaling_defaults().dt;
       c.solver.comm = mode;
       OptionValues given;
       if (m->name() == "sor") given["--ns"] = 8;
       choose_method(c, configure_method(m->name(), given, 2));
       c.timed_planning = false;
-      c.particles = static_cast<int>(lattice_site_count(c.domain, c.particle));
-      c.forced_dims = {p, 1, 1};
       const auto particles = validate_case(c, p, 100 * c.solver.dt);
       CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
       auto solver = build_solver(c, dec, particles);

@@ -72,18 +72,13 @@ const char* const kFieldNames[] = {"u", "v", "w", "p", "phi", "B11", "B22", "B33
 // {"acm/sync u": hash, ...} after kSteps steps of `c`.
 std::map<std::string, std::uint64_t> run_case(const Case& c) {
   const int p = testing::world_size();
-  ChannelCase cc;
-  cc.domain.cells = {kBlock * p, kBlock, kBlock};
-  cc.domain.length = {3.6 * p, 3.6, 3.6};
+  ChannelCase cc = weak_block_case(kBlock, p);
   cc.solver.dt = c.dt;
-  cc.solver.physics.G = 50.0;
   cc.solver.comm = c.mode;
   OptionValues given;
   if (c.ns > 0) given["--ns"] = c.ns;
   choose_method(cc, configure_method(c.method, given, c.nc));
   cc.timed_planning = false;
-  cc.particles = static_cast<int>(lattice_site_count(cc.domain, cc.particle));
-  cc.forced_dims = {p, 1, 1};
   const auto particles = validate_case(cc, p, 1000 * c.dt);
   CartDecomposition dec(MPI_COMM_WORLD, cc.domain.cells, kTransportHalo, cc.forced_dims);
   auto solver = build_solver(cc, dec, particles);

@@ -60,11 +60,8 @@ MethodChoice configure_method(const std::string& name, const OptionValues& given
           for (const std::string& t : r.methods) takers += (takers.empty() ? "" : ", ") + t;
       throw ConfigError(flag + " applies to --method " + (takers.empty() ? "none" : takers) + " only");
     }
-    if (o->integer && value != std::floor(value)) {
-      char b[32];
-      std::snprintf(b, sizeof b, "%g", value);
-      throw ConfigError(flag + " " + b + " must be a whole number");
-    }
+    if (o->integer && value != std::floor(value))
+      throw ConfigError(flag + " " + format_value(value) + " must be a whole number");
     mine[flag] = value;
   }
   if (nc && *nc < 0) throw ConfigError("--nc " + std::to_string(*nc) + " must be 0 (explicit stress) or more");

@@ -1,6 +1,5 @@
 #include "smac_sor.hpp"
 
-#include <cstdio>
 #include <string>
 
 #include "config_error.hpp"
@@ -8,11 +7,7 @@
 namespace efsi {
 
 void check_sor_sweeps(double sweeps, const std::string& what) {
-  if (!(sweeps >= 1)) {
-    char b[32];
-    std::snprintf(b, sizeof b, "%g", sweeps);
-    throw ConfigError(what + " " + b + " must be at least 1");
-  }
+  if (!(sweeps >= 1)) throw ConfigError(what + " " + format_value(sweeps) + " must be at least 1");
 }
 
 SmacSorPressure::SmacSorPressure(CommMode comm, int sweeps, double omega)

@@ -2,7 +2,6 @@
 // calibrated count for --eps, Crank-Nicolson stress with the paper's N_C by default, the
 // paper's 10 steps of 6.25e-5.
 #include <cmath>
-#include <cstdio>
 #include <string>
 
 #include "config_error.hpp"
@@ -13,16 +12,10 @@
 namespace efsi {
 namespace {
 
-std::string format_g(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%g", v);
-  return b;
-}
-
 // "1e-3", as the calibration's eps are written.
 std::string format_eps(double v) {
   const int exponent = static_cast<int>(std::lround(std::log10(v)));
-  return std::pow(10.0, exponent) == v ? "1e" + std::to_string(exponent) : format_g(v);
+  return std::pow(10.0, exponent) == v ? "1e" + std::to_string(exponent) : format_value(v);
 }
 
 int calibrated_sweeps(double eps) {
@@ -31,7 +24,7 @@ int calibrated_sweeps(double eps) {
     if (c.eps == eps) return c.sweeps;
     known += (known.empty() ? "" : ", ") + format_eps(c.eps);
   }
-  throw ConfigError("no calibrated SOR sweep count for --eps " + format_g(eps) + " (calibrated: " + known +
+  throw ConfigError("no calibrated SOR sweep count for --eps " + format_value(eps) + " (calibrated: " + known +
                     "); give --ns, or find one with --calibrate");
 }
 
@@ -50,7 +43,7 @@ class SorSpec final : public MethodSpec {
   void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const override {
     const auto eps = given.find("--eps"), ns = given.find("--ns");
     if (eps != given.end() && !(eps->second > 0 && eps->second < 1))
-      throw ConfigError("--eps " + format_g(eps->second) + " must lie in (0, 1)");
+      throw ConfigError("--eps " + format_value(eps->second) + " must lie in (0, 1)");
     if (ns != given.end()) check_sor_sweeps(ns->second, "--ns");
     const double e = eps != given.end() ? eps->second : paper::kDefaultSorEps;
     choice.values["eps"] = e;
@@ -59,7 +52,7 @@ class SorSpec final : public MethodSpec {
     choice.values["ns"] = sweeps;
     choice.report["ns_per_step"] = std::to_string(sweeps);
     // The eps that chose N_S; none when --ns alone set it.
-    if (ns == given.end() || eps != given.end()) choice.report["eps"] = format_g(e);
+    if (ns == given.end() || eps != given.end()) choice.report["eps"] = format_value(e);
     choice.banner = "N_S = " + std::to_string(sweeps) + " SOR sweeps per step";
   }
 
