@@ -3,6 +3,7 @@
 #include <mpi.h>
 
 #include <cstdio>
+#include <memory>
 #include <sstream>
 
 #include "config_error.hpp"
@@ -11,6 +12,47 @@
 
 namespace efsi {
 namespace {
+
+constexpr std::size_t kHelpWidth = 100;  // --help lines fit a terminal and a code review
+
+// Each paragraph of `text` broken at spaces into lines of at most `width` characters.
+std::string wrap(const std::string& text, std::size_t width) {
+  std::string out, line, word;
+  std::istringstream paragraphs(text);
+  std::string paragraph;
+  bool first = true;
+  while (std::getline(paragraphs, paragraph)) {
+    if (!first) out += '\n';
+    first = false;
+    std::istringstream words(paragraph);
+    line.clear();
+    while (words >> word) {
+      if (!line.empty() && line.size() + 1 + word.size() > width) {
+        out += line + '\n';
+        line.clear();
+      }
+      line += (line.empty() ? "" : " ") + word;
+    }
+    out += line;
+  }
+  return out;
+}
+
+// CLI11 2.1 leaves long descriptions on one line; this one wraps them, option help beside
+// the option column.
+class WrappingFormatter final : public CLI::Formatter {
+ public:
+  std::string make_option_desc(const CLI::Option* opt) const override {
+    return wrap(CLI::Formatter::make_option_desc(opt), kHelpWidth - get_column_width());
+  }
+  std::string make_description(const CLI::App* app) const override {
+    return wrap(CLI::Formatter::make_description(app), kHelpWidth) + "\n";
+  }
+  std::string make_footer(const CLI::App* app) const override {
+    const std::string footer = CLI::Formatter::make_footer(app);
+    return footer.empty() ? footer : wrap(footer, kHelpWidth) + "\n";
+  }
+};
 
 template <class T, class Parse>
 std::array<T, 3> parse3(const std::string& text, const std::string& option, Parse parse) {
@@ -56,6 +98,7 @@ bool is_root() {
 int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>& body) {
   Runtime runtime(argc, argv);
   const std::string name = app.get_name();
+  app.formatter(std::make_shared<WrappingFormatter>());
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {

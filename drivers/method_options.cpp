@@ -17,6 +17,20 @@ OptionValues MethodOptions::given() const {
   return v;
 }
 
+std::string per_method(const std::function<std::string(const MethodSpec&)>& value) {
+  std::string out;
+  for (const MethodSpec* m : pressure_methods()) out += (out.empty() ? "" : ", ") + m->name() + ": " + value(*m);
+  return out;
+}
+
+std::string scaling_dt_help() {
+  return per_method([](const MethodSpec& m) { return format_value(m.scaling_defaults().dt); });
+}
+
+std::string scaling_steps_help() {
+  return per_method([](const MethodSpec& m) { return std::to_string(m.scaling_defaults().steps); });
+}
+
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help) {
   std::string methods;
   for (const MethodSpec* m : pressure_methods()) methods += "\n  " + m->name() + ": " + m->summary();
@@ -28,8 +42,8 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
     app.add_option(r.option.flag, o.method_values[r.option.flag], r.option.help + " (" + takers + " only)");
   }
   app.add_option("--nc", o.nc,
-                 "Crank-Nicolson stress sweeps per step N_C (0: explicit Euler; default: the method's, " +
-                     std::to_string(paper::kCnSweeps) + " for sor, 0 otherwise)");
+                 "Crank-Nicolson stress sweeps per step N_C (0: explicit stress; default: " +
+                     per_method([](const MethodSpec& m) { return std::to_string(m.default_cn_sweeps()); }) + ")");
   app.add_option("--dt", o.dt, "time step (default: " + dt_help + ")");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");
   std::string names;

@@ -4,11 +4,13 @@
 // alike.  The methods and their own options come from the registry (method_registry.hpp).
 #include <CLI/CLI.hpp>
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <string>
 
 #include "channel_case.hpp"
+#include "method_spec.hpp"
 
 namespace efsi {
 
@@ -25,6 +27,12 @@ struct MethodOptions {
 // --method, --comm, every registered method's options, --nc, --dt, --threads, --integrator.
 // `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);
+
+// "acm: 50, fft: 10, sor: 10": one value per registered method, for help texts.
+std::string per_method(const std::function<std::string(const MethodSpec&)>& value);
+// The scaling drivers' defaults of --dt and --steps, per method.
+std::string scaling_dt_help();
+std::string scaling_steps_help();
 
 // Checks the values and fills c.method (with c.solver.cn_sweeps), c.solver.comm,
 // c.solver.integrator and c.solver.dt (--dt, else `default_dt`), and sets the threads.

@@ -81,13 +81,12 @@ int main(int argc, char** argv) {
   CLI::App app{
       "The paper's strong-scaling case (docs/numerics.md, 'Experiments', and docs/architecture.md, 'Programs and their command lines'): 2048 x 1024 x 1024 cells, "
       "115.2 x 57.6 x 57.6, 16384 particles; --scale S divides every length and count by S per "
-      "direction (particles at the same density).\nSteps as in weak scaling: ACM 50 of 1.25e-5; SOR and "
-      "FFT 10 of 6.25e-5. --dry-run --ranks N prints the decomposition, local block and memory per rank "
+      "direction (particles at the same density).\nSteps as in weak scaling, each method's own (--list-methods). --dry-run --ranks N prints the decomposition, local block and memory per rank "
       "for N ranks and exits without allocating the case.",
       "strong_scaling"};
   app.add_option("--scale", o.scale, "divide the case by S per direction (1, 2, 4, 8 or 16)")->capture_default_str();
-  add_method_options(app, o.m, "1.25e-5 for acm, 6.25e-5 otherwise");
-  app.add_option("--steps", o.steps, "measured steps (default: 50 for acm, 10 otherwise)");
+  add_method_options(app, o.m, scaling_dt_help());
+  app.add_option("--steps", o.steps, "measured steps (default: " + scaling_steps_help() + ")");
   app.add_option("--decomp", o.decomp, "force PX,PY,PZ ranks (0 entries free)");
   app.add_flag("--dry-run", o.dry_run, "print decomposition, local block and memory per rank for --ranks, then exit");
   app.add_option("--ranks", o.dry_ranks, "rank count for --dry-run");

@@ -23,7 +23,7 @@ int run(const Options& o) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   ChannelCase c;
-  // The paper's steps: ACM 50 of 1.25e-5, SOR (and the FFT reference) 10 of 6.25e-5.
+  // The method's own steps and time step (MethodSpec::scaling_defaults).
   const long steps = apply_scaling_defaults(o.m, c, o.steps);
   if (o.local < 1) throw ConfigError("--local " + std::to_string(o.local) + " must be at least 1");
   if (o.particles_per_rank < 0)
@@ -56,15 +56,16 @@ int main(int argc, char** argv) {
   CLI::App app{
       "The paper's weak-scaling case (docs/numerics.md, 'Experiments', and docs/architecture.md, 'Programs and their command lines'): a --local^3 block with "
       "--particles-per-rank particles per rank, the global box the rank grid times the block.\n"
-      "Defaults are the paper's: ACM 50 steps of 1.25e-5; SOR and FFT 10 steps of 6.25e-5, SOR with N_S "
-      "from the calibration for --eps and N_C = 20. One warm-up step precedes the measured ones.",
+      "Defaults are the paper's, each method's own (--list-methods): its time step and measured steps, "
+      "and its settings (SOR: N_S from the calibration for --eps, N_C = 20). One warm-up step precedes "
+      "the measured ones.",
       "weak_scaling"};
   app.add_option("--local", o.local, "cells per rank along each axis")->capture_default_str();
   app.add_option("--particles-per-rank", o.particles_per_rank,
                  "particles per rank: the first K x ranks sites of the lattice")
       ->capture_default_str();
-  add_method_options(app, o.m, "1.25e-5 for acm, 6.25e-5 otherwise");
-  app.add_option("--steps", o.steps, "measured steps (default: 50 for acm, 10 otherwise)");
+  add_method_options(app, o.m, scaling_dt_help());
+  app.add_option("--steps", o.steps, "measured steps (default: " + scaling_steps_help() + ")");
   app.add_option("--decomp", o.decomp, "rank grid PX,PY,PZ (default: MPI_Dims_create)");
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   return run_driver(argc, argv, app, [&] { return run(o); });

@@ -61,10 +61,11 @@ def ranks_list(text):
 
 
 def config_list(text):
-    try:
-        return sweeps.parse_configs(text)
-    except sweeps.SweepError as e:
-        raise argparse.ArgumentTypeError(str(e)) from None
+    """Configuration names; they are checked against the drivers' method list later."""
+    names = tuple(t.strip() for t in text.split(",") if t.strip())
+    if not names:
+        raise argparse.ArgumentTypeError(f"no configuration in '{text}'")
+    return names
 
 
 def sweep_name(text):
@@ -127,10 +128,18 @@ def size_options(args, sweep):
     return out
 
 
+def sweep_configs(args, sweep):
+    """The sweep's configurations, or --configs, resolved against the drivers' method list."""
+    methods = sweeps.catalog(args.bin_dir)
+    if args.configs:
+        return [sweeps.parse_config(c, methods) for c in args.configs]
+    return sweep.configs(methods)
+
+
 def points(args, sweep):
     """(repeat, ranks, config) in run order: whole sweeps repeated, so noise spreads evenly."""
     ranks = args.ranks or sweep.ranks
-    configs = args.configs or sweep.configs
+    configs = sweep_configs(args, sweep)
     return [(rep, r, c) for rep in range(args.repeats) for r in ranks for c in configs]
 
 
@@ -320,13 +329,14 @@ def cmd_slurm(args):
     d = bin_dir(args, check=False)
     out = os.path.abspath(args.out)
     extras = {s.name: size_options(args, s) for s in selected_sweeps(args)}  # checked before writing
+    configs_of = {s.name: sweep_configs(args, s) for s in selected_sweeps(args)}
     os.makedirs(out, exist_ok=True)
     cmdline = shlex.join([PROG] + sys.argv[1:])
     manifest = [("script", "sweep", "driver", "ranks", "nodes", "cpus_per_task", "configs", "repeats", "rows")]
     names = []
     for sweep in selected_sweeps(args):
         extra = extras[sweep.name]
-        configs = args.configs or sweep.configs
+        configs = configs_of[sweep.name]
         for ranks in args.ranks or sweep.ranks:
             name, nodes, text = slurm_script(sweep, ranks, configs, args, d, extra, cmdline)
             path = os.path.join(out, name + ".sbatch")
@@ -350,8 +360,10 @@ def cmd_slurm(args):
 
 def cmd_list(args):
     sweep = sweeps.get_sweep(args.sweep)
-    values = {"ranks": [str(r) for r in sweep.ranks], "configs": [c.name for c in sweep.configs],
-              "driver": [sweep.driver]}[args.what]
+    if args.what == "configs":
+        values = [c.name for c in sweep.configs(sweeps.catalog(args.bin_dir))]
+    else:
+        values = {"ranks": [str(r) for r in sweep.ranks], "driver": [sweep.driver]}[args.what]
     sys.stdout.write(",".join(values))
     return 0
 
@@ -437,6 +449,8 @@ def build_parser():
     li = sub.add_parser("list", help="print a sweep's rank counts or configurations, comma-separated")
     li.add_argument("--sweep", type=sweep_name, required=True)
     li.add_argument("--what", choices=("ranks", "configs", "driver"), required=True)
+    li.add_argument("--bin-dir", default=None,
+                    help=f"the drivers that list the methods, for --what configs (default {DEFAULT_BIN_DIR})")
     li.set_defaults(func=cmd_list)
 
     co = sub.add_parser("collect", help="append result CSVs to one CSV, header once, under a lock")

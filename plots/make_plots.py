@@ -32,12 +32,11 @@ import trajectories as tj  # noqa: E402
 DEFAULT_PAPER = os.path.join(os.path.dirname(HERE), "results", "paper", "paper_tables.csv")
 PAPER_MACHINE = "RICC, Xeon 5570, 8 cores/node"
 
-STYLE = {  # (method, eps) -> (colour, marker); sync filled, async open (as in the paper)
-    ("acm", ""): ("tab:red", "o"),
-    ("sor", "1e-3"): ("tab:blue", "^"),
-    ("sor", "1e-4"): ("tab:green", "s"),
-    ("fft", ""): ("tab:purple", "D"),
-}
+# One colour and marker per (method, eps) in the input and the paper, in sorted order, so a
+# configuration looks the same in every figure of a run; sync filled, async open (as in the paper).
+COLOURS = ("tab:red", "tab:purple", "tab:blue", "tab:green", "tab:orange", "tab:brown", "tab:cyan", "tab:olive")
+MARKERS = ("o", "D", "^", "s", "v", "P", "X", "*")
+STYLE_SLOTS = {}  # (method, eps) -> index, set by assign_styles
 LINESTYLES = ("-", "--", ":", "-.")
 
 
@@ -50,8 +49,15 @@ class OneLineParser(argparse.ArgumentParser):
         raise UsageError(message)
 
 
+def assign_styles(*series_lists):
+    keys = sorted({(s.config.method, s.config.eps) for group in series_lists for s in group})
+    STYLE_SLOTS.clear()
+    STYLE_SLOTS.update((k, i) for i, k in enumerate(keys))
+
+
 def style(config, setup_index=0):
-    colour, marker = STYLE.get((config.method, config.eps), ("tab:gray", "v"))
+    slot = STYLE_SLOTS.get((config.method, config.eps), len(STYLE_SLOTS))
+    colour, marker = COLOURS[slot % len(COLOURS)], MARKERS[slot % len(MARKERS)]
     face = colour if config.comm == "sync" else "white"
     return dict(color=colour, marker=marker, markerfacecolor=face, markeredgecolor=colour,
                 linestyle=LINESTYLES[setup_index % len(LINESTYLES)], markersize=6, linewidth=1.3)
@@ -135,7 +141,8 @@ def scaling_figure(plt, paper, ours, loaded, kind):
     else:
         axp.set_ylabel("communication time / elapsed  [%]")
         axo.set_ylabel("communication time / elapsed  [%]")
-        axp.axhline(22, color=STYLE[("acm", "")][0], linestyle="--", linewidth=1.3,
+        # The paper's one figure for Fig. 4, a statement about its ACM runs.
+        axp.axhline(22, color=style(rd.Config("acm", "sync", ""))["color"], linestyle="--", linewidth=1.3,
                     label="ACM: at most 22 % up to 8,192 cores\n(paper's text; Fig. 4 values not tabulated)")
         axp.text(0.5, 0.35, "The paper gives Figure 4 as a plot only;\nits text bounds ACM at 22 %\n"
                  "and puts SOR 'much' higher.", transform=axp.transAxes, ha="center", fontsize=9)
@@ -372,6 +379,7 @@ def main(argv=None):
     written = []
     if args.csv:
         weak, strong = rd.series(loaded, "weak"), rd.series(loaded, "strong")
+        assign_styles(weak, strong, paper_weak, paper_strong)
         print(f"{len(loaded.rows)} valid rows from {len(args.csv)} file(s): {len(weak)} weak and "
               f"{len(strong)} strong series" + (f"; skipped {loaded.skipped_text()}" if loaded.skipped else ""))
         for name, kind, paper, ours in (("fig3_weak_efficiency", "weak", paper_weak, weak),

@@ -34,21 +34,24 @@
 #include <vector>
 
 #include "acm.hpp"
+#include "acm_work.hpp"
 #include "channel_setup.hpp"
 #include "fft_poisson.hpp"
+#include "fft_work.hpp"
 #include "fsi_equations.hpp"
 #include "halo_exchange.hpp"
 #include "kernel_costs.hpp"
 #include "kernel_timing.hpp"
 #include "mpi_benchmark.hpp"
 #include "sor_poisson.hpp"
+#include "sor_work.hpp"
 #include "stream_probe.hpp"
 
 namespace {
 
 using namespace efsi;
 using bench::KernelCost;
-using bench::PerCell;
+using efsi::PerCell;
 using bench::StepCase;
 
 constexpr int kWarmSteps = 3;  // steps from the laminar flow before the kernels are timed
@@ -94,7 +97,7 @@ struct KernelSetup {
   StepHalos halos;
 
   explicit KernelSetup(int block)
-      : n(block), ch(bench::paper_step_cases()[0], block), work(*ch.dec), halos(step_halos(*ch.dec, ch.c.domain)) {
+      : n(block), ch(bench::step_cases().front(), block), work(*ch.dec), halos(step_halos(*ch.dec, ch.c.domain)) {
     FsiSolver& solver = *ch.solver;
     solver.impose_laminar_flow();
     for (int s = 0; s < kWarmSteps; ++s) solver.step();
@@ -164,7 +167,7 @@ void BM_Transport(benchmark::State& state, int n) {
 void BM_AcmMoments(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const MPI_Comm comm = k.ch.dec->comm();
-  bench::time_kernel(state, k.cost(bench::kAcmMoments), 1, [&] {
+  bench::time_kernel(state, k.cost(kAcmMoments), 1, [&] {
     const AcmMoments m = acm_moments(k.work.div, k.state().p(), k.ch.c.domain, comm, k.timers);
     benchmark::DoNotOptimize(m);
   });
@@ -175,7 +178,7 @@ void BM_AcmIncrement(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   AcmPressure acm;
   PressureInputs in{k.state(), k.work, k.physics(), k.dt(), k.timers};
-  bench::time_kernel(state, k.cost(bench::kAcmMoments + bench::kAcmUpdate), 1, [&] { acm.increment(in); });
+  bench::time_kernel(state, k.cost(kAcmMoments + kAcmUpdate), 1, [&] { acm.increment(in); });
 }
 
 // kSorSweep (64 B, 14 flops) + the halo exchanges of x: 4 per sweep, plus the one at the
@@ -186,7 +189,7 @@ void BM_SorSweep(benchmark::State& state, int n, CommMode mode) {
   const double factor = 1.0 / k.dt();
   sor.sweeps(k.work.div, 1, factor);  // warm-up: MPI connections, first pass
   const PerCell halo{(4.0 * kSorSweeps + 1) / kSorSweeps * halo_bytes_per_cell(sor.halo(), k.cells()), 0};
-  KernelCost cost = k.cost(bench::kSorSweep + halo);
+  KernelCost cost = k.cost(kSorSweep + halo);
   cost.units = kSorSweeps;  // times and counters per sweep
   bench::time_kernel(state, cost, 1, [&] { sor.sweeps(k.work.div, kSorSweeps, factor); });
 }
@@ -198,7 +201,7 @@ void BM_FftSolve(benchmark::State& state, int n) {
   const double factor = 1.0 / k.dt();
   fft.solve(k.work.div, k.work.dp, factor);  // warm-up
   const Int3& g = k.ch.dec->global();
-  bench::time_kernel(state, k.cost(bench::fft_solve_cost(g[X], g[Z])), 1,
+  bench::time_kernel(state, k.cost(fft_solve_cost(g[X], g[Z])), 1,
                      [&] { fft.solve(k.work.div, k.work.dp, factor); });
 }
 
@@ -233,21 +236,17 @@ void BM_GlobalReduction(benchmark::State& state) {
 // One step: the sum of its kernels' counts (kernel_costs.hpp) and halo traffic (StepHalos):
 //   every method: stress + momentum + transport + divergence + projection; the state
 //   exchange (11 fields, 26 neighbours), the v* exchange and the D* exchange (faces);
-//   acm: + the ACM increment;
-//   fft: + one FFT solve + the dp exchange (faces);
-//   sor: + nc Crank-Nicolson sweeps (each a v* exchange of 26 neighbours and a tau exchange
-//        of faces, one more v* exchange at the end) + the dp fill + ns SOR sweeps with
-//        4 ns + 1 dp exchanges (faces).
+//   + the method's increment as it counts it (MethodSpec::increment_work), with its
+//   exchanges of a cell field's faces;
+//   + nc Crank-Nicolson sweeps when the method has them (each a v* exchange of 26
+//   neighbours and a tau exchange of faces, one more v* exchange at the end).
 PerCell step_cost(const StepCase& m, const Int3& global, const StepHalos& h) {
   PerCell c = bench::kStress + bench::kMomentum + bench::kTransport + bench::kDivergence + bench::kProject;
   c = c + PerCell{h.state + h.vstar_faces + h.cell_faces, 0};
-  // Per method: the counted cost of its increment (kernel_costs.hpp); a method without an
-  // entry counts the common stages only.
-  if (m.method == "acm") c = c + bench::kAcmMoments + bench::kAcmUpdate;
-  if (m.method == "fft") c = c + bench::fft_solve_cost(global[X], global[Z]) + PerCell{h.cell_faces, 0};
-  if (m.method == "sor")
-    c = c + bench::kFill + static_cast<double>(m.ns) * bench::kSorSweep + PerCell{(4.0 * m.ns + 1) * h.cell_faces, 0};
-  if (m.nc > 0) c = c + bench::crank_nicolson_cost(m.nc) + PerCell{m.nc * (h.vstar_full + h.tau_faces) + h.vstar_full, 0};
+  const IncrementWork inc = m.choice.spec->increment_work(m.choice, global);
+  c = c + inc.kernels + PerCell{inc.cell_face_exchanges * h.cell_faces, 0};
+  const int nc = m.choice.cn_sweeps;
+  if (nc > 0) c = c + bench::crank_nicolson_cost(nc) + PerCell{nc * (h.vstar_full + h.tau_faces) + h.vstar_full, 0};
   return c;
 }
 
@@ -276,7 +275,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
     if (bench::count_mode()) b->Iterations(1)->Repetitions(1);
   };
   for (int n : kSizes) {
-    const std::string sz = "/" + std::to_string(n);
+    const std::string sz = std::string("/").append(std::to_string(n));  // not "/" + string&&: GCC 12 -Wrestrict
     reg("BM_Stress" + sz, [n](benchmark::State& s) { BM_Stress(s, n); });
     reg("BM_MomentumRhs" + sz, [n](benchmark::State& s) { BM_MomentumRhs(s, n); });
     reg("BM_Transport" + sz, [n](benchmark::State& s) { BM_Transport(s, n); });
@@ -287,7 +286,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
     reg("BM_FftSolve" + sz, [n](benchmark::State& s) { BM_FftSolve(s, n); });
     reg("BM_HaloExchange/sync" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::sync); });
     reg("BM_HaloExchange/async" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::async); });
-    for (const StepCase& m : bench::paper_step_cases())
+    for (const StepCase& m : bench::step_cases())
       reg("BM_Step/" + bench::step_case_name(m) + sz, [m, n](benchmark::State& s) { BM_Step(s, m, n); });
   }
   reg("BM_GlobalReduction", BM_GlobalReduction);

@@ -7,7 +7,9 @@
 // so 32^3 has twice the spacing and the same particles).
 #include <mpi.h>
 
+#include <algorithm>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,39 +17,49 @@
 #include "decomposition.hpp"
 #include "fsi_solver.hpp"
 #include "fsi_state.hpp"
+#include "method_registry.hpp"
 #include "particles.hpp"
 
 namespace efsi::bench {
 
 // One method's settings for a whole step.
 struct StepCase {
-  std::string method;  // a registered pressure method
+  MethodChoice choice;  // a registered method, configured
   CommMode mode;
   double dt;
-  int ns;              // SOR sweeps per step (method sor)
-  int nc;              // Crank-Nicolson sweeps per step; 0: explicit stress
   int steps_per_iter;  // steps timed together in one benchmark iteration
 };
 
-// The paper's three methods in both communication modes (FFT: sync only), as bench_step
-// runs them: ACM dt 1.25e-5 explicit stress; SOR dt 6.25e-5, N_S = 213 (eps 1e-3 at 64^3),
-// Crank-Nicolson stress by N_C = 20 sweeps; FFT dt 6.25e-5, explicit stress.
-inline const std::vector<StepCase>& paper_step_cases() {
-  static const std::vector<StepCase> cases{
-      {"acm", CommMode::sync, paper::kAcmDt, 0, 0, 5},
-      {"acm", CommMode::async, paper::kAcmDt, 0, 0, 5},
-      {"sor", CommMode::sync, paper::kSmacDt, paper::kCalibratedSorSweeps[0].sweeps, paper::kCnSweeps, 2},
-      {"sor", CommMode::async, paper::kSmacDt, paper::kCalibratedSorSweeps[0].sweeps, paper::kCnSweeps, 2},
-      {"fft", CommMode::sync, paper::kSmacDt, 0, 0, 5},
-  };
+// Every registered method in every halo mode it takes, at the paper's time step and its
+// first campaign variant (SOR: eps 1e-3, the calibrated N_S = 213 at 64^3), with its
+// default stress (ACM and FFT explicit, SOR Crank-Nicolson with N_C = 20).  A method with
+// the paper's 50 steps times 5 per iteration, one with 10 steps one.
+inline const std::vector<StepCase>& step_cases() {
+  static const std::vector<StepCase> cases = [] {
+    std::vector<StepCase> out;
+    for (const MethodSpec* spec : pressure_methods()) {
+      OptionValues given;
+      const std::vector<CampaignVariant> variants = spec->campaign_variants();
+      if (!variants.empty())
+        for (std::size_t a = 0; a + 1 < variants[0].args.size(); a += 2)
+          given[variants[0].args[a]] = std::stod(variants[0].args[a + 1]);
+      const MethodChoice choice = configure_method(spec->name(), given, std::nullopt);
+      const ScalingDefaults d = spec->scaling_defaults();
+      for (CommMode mode : {CommMode::sync, CommMode::async})
+        if (spec->supports(mode)) out.push_back({choice, mode, d.dt, static_cast<int>(std::max(1L, d.steps / 10))});
+    }
+    return out;
+  }();
   return cases;
 }
 
-// "acm/sync", "sor_ns213_nc20/async", "fft/sync".
+// "acm/sync", "sor_ns213_nc20/async", "fft/sync": the method, its per-step SOR sweeps (a
+// method that reports ns_per_step) and Crank-Nicolson sweeps, the halo mode.
 inline std::string step_case_name(const StepCase& m) {
-  std::string name = m.method;
-  if (m.ns > 0) name += "_ns" + std::to_string(m.ns) + "_nc" + std::to_string(m.nc);
-  else if (m.nc > 0) name += "_nc" + std::to_string(m.nc);
+  std::string name = m.choice.name();
+  const auto ns = m.choice.report.find("ns_per_step");
+  if (ns != m.choice.report.end()) name += "_ns" + ns->second + "_nc" + std::to_string(m.choice.cn_sweeps);
+  else if (m.choice.cn_sweeps > 0) name += "_nc" + std::to_string(m.choice.cn_sweeps);
   return name + "/" + to_string(m.mode);
 }
 
@@ -63,9 +75,7 @@ struct ChannelSetup {
     c = weak_block_case(block, p);
     c.solver.dt = m.dt;
     c.solver.comm = m.mode;
-    OptionValues given;
-    if (m.ns > 0) given["--ns"] = m.ns;
-    choose_method(c, configure_method(m.method, given, m.nc));
+    choose_method(c, m.choice);
     c.timed_planning = timed_planning;
     // t_end only bounds the a-priori velocity for the time-step check: a generous run length.
     particles = validate_case(c, p, 1000 * m.dt);

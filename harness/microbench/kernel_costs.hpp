@@ -1,25 +1,12 @@
 #pragma once
-// Bytes and flops per owned cell of the kernels bench_kernels times, counted from the code.
-//
-// Conventions (the same for every kernel):
-//   bytes  what the kernel must move between memory and the core: every array it reads
-//          read once, every array it writes written once, 8 bytes per double per owned cell
-//          (ghost points not counted; no write-allocate read, as STREAM counts its triad);
-//          a kernel made of separate passes (SOR colours, FFT stages) moves its data once
-//          per pass.
-//   flops  + - * / and sqrt, 1 each, as written in the source for one output point, with no
-//          sharing between points or between terms (the compiler may share some); max, abs
-//          and the upwind selects are not counted; an average of m points costs m - 1 adds
-//          and one multiply (none when m = 1).
+// Bytes and flops per owned cell of the kernels bench_kernels times, counted from the code,
+// under the conventions of kernels/pressure/spec/work_count.hpp.  The pressure methods'
+// own kernels are counted in their folders (acm_work.hpp, sor_work.hpp, fft_work.hpp).
 #include <cmath>
 
-namespace efsi::bench {
+#include "work_count.hpp"
 
-struct PerCell {
-  double bytes, flops;
-};
-constexpr PerCell operator+(PerCell a, PerCell b) { return {a.bytes + b.bytes, a.flops + b.flops}; }
-constexpr PerCell operator*(double s, PerCell a) { return {s * a.bytes, s * a.flops}; }
+namespace efsi::bench {
 
 // compute_stress (fsi_equations.cpp stress_component, constitutive.hpp), six components:
 //   reads u, v, w, phi, Bt11..Bt23 (10 arrays), writes tau11..tau23 (6): 16 x 8 = 128 B.
@@ -71,39 +58,6 @@ inline constexpr PerCell kDivergence{32, 8};
 // FsiSolver::project: reads p, dp, u*, v*, w*, writes p, u, v, w: 72 B;
 //   p += dp 1, each velocity u* - c (dp - dp_low) 3: 10 flops.
 inline constexpr PerCell kProject{72, 10};
-
-// acm_moments, the local sums before the one MPI_Allreduce of 7 doubles: reads div and p:
-//   16 B; two 7-point Laplacians ((a - 2c + b) h^-2: 4 per axis, 2 adds: 14 each) 28,
-//   five products accumulated (2 each) 10, two sums 2: 40 flops.
-inline constexpr PerCell kAcmMoments{16, 40};
-
-// AcmPressure::increment = acm_moments + the update dp = -(b p + a div)/dt - shift:
-//   the update reads p, div, writes dp: 24 B; 2 mul, add, div, sub: 5 flops.
-inline constexpr PerCell kAcmUpdate{24, 5};
-
-// One four-colour SOR sweep (SorPoisson::update): each colour is a separate pass (it reads
-//   the colours before it) that reads all of x (the neighbours are the other colours),
-//   reads rhs on its rows (half of them: 4 B per cell) and writes x on its rows (4 B):
-//   16 B per colour, 64 B per sweep.  Per updated point: ax (a + b), wlo a + whi b,
-//   az (a + b), factor rhs, 3 adds/subs: 11; keep x + wd s: 3; 14 flops per cell per sweep.
-inline constexpr PerCell kSorSweep{64, 14};
-
-// SmacSorPressure::increment's dp.fill(0) before the sweeps: writes dp, 8 B.
-inline constexpr PerCell kFill{8, 0};
-
-// FftPoisson::solve on NX x NY x NZ global cells (fft_poisson.cpp):
-//   bytes: passes over the field, one read and one write of 8 B per cell each (the half
-//   spectrum of NX/2 + 1 complex values taken as NX doubles): forward copy in 1, three
-//   transposes (pack, unpack) 6, r2c along x 1, c2c along z 1 = 9; Thomas 1; backward 9
-//   (the same, copy out last): 19 passes x 16 B = 304 B (MPI's own copies not counted).
-//   flops: the usual FFT counts, 2.5 N log2 N for a real transform of N points and
-//   5 N log2 N for a complex one: forward and backward x (2 x 2.5 log2 NX per cell) and z
-//   (2 x 5 log2 NZ per complex point, (NX/2 + 1)/NX of them per cell); Thomas per complex
-//   unknown: forward row (bj 2, m 2, cp 1, dp = (r scale - a dp)/m 8) 13, back 4: 17.
-inline PerCell fft_solve_cost(int NX, int NZ) {
-  const double half = (NX / 2 + 1) / static_cast<double>(NX);
-  return {304, 2 * 2.5 * std::log2(NX) + half * (2 * 5 * std::log2(NZ) + 17)};
-}
 
 // CrankNicolsonStress::iterate with nc sweeps (crank_nicolson.cpp), halos apart:
 //   before: 3 copies of v* (16 B each: 48 B), add_stretching(-dt) (kStretching);

@@ -283,6 +283,43 @@ class ListAndCollect(unittest.TestCase):
         self.assertEqual(campaign("list", "--sweep", "weak", "--what", "configs").stdout, ",".join(PAPER_CONFIGS))
         self.assertEqual(campaign("list", "--sweep", "mini", "--what", "driver").stdout, "weak_scaling")
 
+    def test_all_methods_come_from_the_registry(self):
+        """The local sweeps run every method the drivers list, in each halo mode it takes, at
+        each variant; a method registered later joins them with no edit to the harness."""
+        if not BIN_DIR:
+            self.skipTest("no --bin-dir")
+        listing = subprocess.run([os.path.join(BIN_DIR, "weak_scaling"), "--list-methods"], capture_output=True,
+                                 text=True, check=True).stdout
+        expected = set()
+        methods = [l[len("method "):].split("|") for l in listing.splitlines() if l.startswith("method ")]
+        variants = [l[len("variant "):].split("|") for l in listing.splitlines() if l.startswith("variant ")]
+        self.assertGreaterEqual(len(methods), 3, listing)
+        for f in methods:
+            for comm in ("sync", "async") if f[5] == "async" else ("sync",):
+                labels = [v[1] for v in variants if v[0] == f[0]]
+                expected |= {f"{f[0]}-{comm}-{v}" for v in labels} if labels else {f"{f[0]}-{comm}"}
+        self.assertIn("sor-async-1e-4", expected)
+        for sweep in ("local-weak", "local-strong", "quick-weak", "quick-strong"):
+            got = campaign("list", "--sweep", sweep, "--what", "configs", "--bin-dir", BIN_DIR).stdout.split(",")
+            self.assertEqual(sorted(got), sorted(expected), sweep)
+
+    def test_a_new_method_joins_the_sweeps(self):
+        sys.path.insert(0, os.path.join(REPO, "harness"))
+        import campaign_sweeps as cs
+        methods = cs.parse_catalog("method acm|ACM|1.25e-05|50|0|async\n"
+                                   "method mg|SMAC with multigrid|6.25e-05|10|20|sync\n"
+                                   "variant mg|1e-3|--eps 1e-3\nvariant mg|1e-6|--eps 1e-6 --mg-iters 9\n"
+                                   "option --eps|mg|tolerance\n")
+        names = [c.name for c in cs.SWEEPS["local-weak"].configs(methods)]
+        self.assertEqual(names, ["acm-sync", "acm-async", "mg-sync-1e-3", "mg-sync-1e-6"])
+        self.assertEqual(cs.parse_config("mg-sync-1e-6", methods).driver_args(),
+                         ["--method", "mg", "--comm", "sync", "--eps", "1e-6", "--mg-iters", "9"])
+        for bad, needle in (("mg-async-1e-3", "no async halo mode"), ("mg-sync", "needs a variant"),
+                            ("acm-sync-1e-3", "only mg"), ("sor-sync-1e-3", "METHOD in acm|mg")):
+            with self.assertRaises(cs.SweepError) as e:
+                cs.parse_config(bad, methods)
+            self.assertIn(needle, str(e.exception))
+
     def test_collect_appends_under_one_header(self):
         tmp = tempfile.mkdtemp(prefix="efsi-collect-")
         self.addCleanup(shutil.rmtree, tmp, True)
@@ -314,4 +351,6 @@ if __name__ == "__main__":
         i = sys.argv.index("--bin-dir")
         BIN_DIR = sys.argv[i + 1]
         del sys.argv[i:i + 2]
+    if BIN_DIR:  # campaign.py lists the methods with these drivers when --bin-dir names a cluster's
+        os.environ["EFSI_BIN_DIR"] = os.path.abspath(BIN_DIR)
     unittest.main()

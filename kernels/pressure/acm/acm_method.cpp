@@ -1,6 +1,7 @@
 // ACM's registration (method_spec.hpp): no options of its own, explicit stress, the
 // paper's 50 steps of 1.25e-5.
 #include "acm.hpp"
+#include "acm_work.hpp"
 #include "method_spec.hpp"
 #include "paper_constants.hpp"
 
@@ -15,6 +16,9 @@ class AcmSpec final : public MethodSpec {
   void configure(const OptionValues&, bool, MethodChoice&) const override {}
   std::unique_ptr<PressureMethod> make(const MethodChoice&, const MethodBuild&) const override {
     return std::make_unique<AcmPressure>();
+  }
+  IncrementWork increment_work(const MethodChoice&, const Int3&) const override {
+    return {kAcmMoments + kAcmUpdate, 0};
   }
 };
 

@@ -1,5 +1,6 @@
 // The exact SMAC reference's registration (method_spec.hpp): explicit stress unless --nc,
 // the paper's 10 steps of 6.25e-5, and the FFT solver's pencils in the memory model.
+#include "fft_work.hpp"
 #include "method_spec.hpp"
 #include "paper_constants.hpp"
 #include "smac_fft.hpp"
@@ -24,6 +25,10 @@ class FftSpec final : public MethodSpec {
                                                                   : FftPoisson::Planning::estimate);
   }
   double extra_bytes(const Int3& local) const override { return kFftWordsPerCell * double(product(local)) * 8.0; }
+  // One solve, then the exchange of dp's faces for the projection.
+  IncrementWork increment_work(const MethodChoice&, const Int3& global) const override {
+    return {fft_solve_cost(global[X], global[Z]), 1};
+  }
 };
 
 }  // namespace

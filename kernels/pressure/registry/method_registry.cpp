@@ -79,6 +79,11 @@ std::string describe_methods() {
     const ScalingDefaults d = m->scaling_defaults();
     std::snprintf(b, sizeof b, "|%g|%ld|%d|", d.dt, d.steps, m->default_cn_sweeps());
     out += "method " + m->name() + "|" + m->summary() + b + (m->supports(CommMode::async) ? "async" : "sync") + "\n";
+    for (const CampaignVariant& v : m->campaign_variants()) {
+      std::string args;
+      for (const std::string& a : v.args) args += (args.empty() ? "" : " ") + a;
+      out += "variant " + m->name() + "|" + v.label + "|" + args + "\n";
+    }
   }
   for (const RegisteredOption& r : registered_options()) {
     std::string takers;

@@ -34,7 +34,9 @@ MethodChoice configure_method(const std::string& name, const OptionValues& given
                               bool calibrating = false);
 
 // The registry's description, one line per method and option, for --list-methods and the
-// campaign tools: "method NAME|SUMMARY|DT|STEPS|NC|async" and "option FLAG|METHODS|HELP".
+// campaign tools: "method NAME|SUMMARY|DT|STEPS|NC|async" (sync for a method with no
+// asynchronous mode), "variant NAME|LABEL|ARGS" for each setting a campaign sweeps, and
+// "option FLAG|METHODS|HELP".
 std::string describe_methods();
 
 }  // namespace efsi

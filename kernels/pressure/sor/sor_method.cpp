@@ -8,6 +8,7 @@
 #include "method_spec.hpp"
 #include "paper_constants.hpp"
 #include "smac_sor.hpp"
+#include "sor_work.hpp"
 
 namespace efsi {
 namespace {
@@ -39,6 +40,11 @@ class SorSpec final : public MethodSpec {
   }
   int default_cn_sweeps() const override { return paper::kCnSweeps; }
   ScalingDefaults scaling_defaults() const override { return {paper::kSmacDt, paper::kSmacSteps}; }
+  std::vector<CampaignVariant> campaign_variants() const override {
+    std::vector<CampaignVariant> out;
+    for (const auto& c : paper::kCalibratedSorSweeps) out.push_back({format_eps(c.eps), {"--eps", format_eps(c.eps)}});
+    return out;
+  }
 
   void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const override {
     const auto eps = given.find("--eps"), ns = given.find("--ns");
@@ -57,6 +63,13 @@ class SorSpec final : public MethodSpec {
   }
 
   void check_grid(const Int3& cells) const override { check_sor_grid(cells); }
+
+  // dp cleared, N_S sweeps of four colours, each colour followed by an exchange of x's
+  // faces, and one exchange before the first.
+  IncrementWork increment_work(const MethodChoice& choice, const Int3&) const override {
+    const double ns = choice.value("ns");
+    return {kFill + ns * kSorSweep, 4 * ns + 1};
+  }
 
   std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const override {
     return std::make_unique<SmacSorPressure>(build.comm, static_cast<int>(choice.value("ns")), paper::kSorOmega);

@@ -13,6 +13,7 @@
 #include "comm_mode.hpp"
 #include "grid_types.hpp"
 #include "pressure_method.hpp"
+#include "work_count.hpp"
 
 namespace efsi {
 
@@ -30,6 +31,21 @@ using OptionValues = std::map<std::string, double>;
 struct ScalingDefaults {
   double dt;
   long steps;
+};
+
+// One setting a scaling campaign runs the method at besides its halo modes: SOR at each
+// calibrated tolerance.  The campaign names the configuration METHOD-COMM-LABEL.
+struct CampaignVariant {
+  std::string label;              // "1e-3"
+  std::vector<std::string> args;  // {"--eps", "1e-3"}
+};
+
+// The counted work of one pressure increment (work_count.hpp), for the benchmarks' figures
+// of a whole step: the method's own kernels per owned cell, and how many times it
+// exchanges the faces of one cell-centred field.
+struct IncrementWork {
+  PerCell kernels;
+  double cell_face_exchanges = 0;
 };
 
 class MethodSpec;
@@ -66,6 +82,8 @@ class MethodSpec {
   // Throws ConfigError for a global grid the method cannot work on (before allocating).
   virtual void check_grid(const Int3& /*cells*/) const {}
   virtual ScalingDefaults scaling_defaults() const = 0;
+  // The settings a campaign sweeps; none: the method runs once per halo mode.
+  virtual std::vector<CampaignVariant> campaign_variants() const { return {}; }
   // Resolves and checks the method's own settings from `given` (only its own flags), and
   // fills choice.values, report and banner; throws ConfigError naming the value and the
   // limit.  `calibrating`: for a run that only calibrates the method (SOR's N_S).
@@ -74,6 +92,9 @@ class MethodSpec {
   // Bytes per rank beyond the Fields the method makes (those the memory model records
   // itself), for a local block of `local` cells.
   virtual double extra_bytes(const Int3& /*local*/) const { return 0.0; }
+  // One increment's work on a `global` grid under `choice` (Crank-Nicolson apart: the step
+  // counts its choice.cn_sweeps itself).
+  virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global) const = 0;
 };
 
 }  // namespace efsi
