@@ -37,8 +37,8 @@ def probe_us(doc, key="triad_us"):
 def summary(doc):
     """Per benchmark: min_us and cpu_min_us (least over all repetitions: wall time, CPU
     time; kernel_timing.hpp), median_us (median over repetitions of each repetition's median
-    iteration), and the median over repetitions of the counted GBps, GFLOPs and
-    roofline_fraction.  Times are information: nothing gates on them."""
+    iteration), and the median over repetitions of the counted GBps, GFLOPs,
+    roofline_fraction, the compute probe's GFLOP/s and roof_fraction.  Times are information: nothing gates on them."""
     out = {}
     for name, rows in runs_by_benchmark(doc).items():
         med = lambda key: statistics.median(r.get(key, 0.0) for r in rows)
@@ -49,6 +49,8 @@ def summary(doc):
             "GBps": med("GBps"),
             "GFLOPs": med("GFLOPs"),
             "roofline_fraction": med("roofline_fraction"),
+            "compute_GFLOPs": med("compute_GFLOPs"),
+            "roof_fraction": med("roof_fraction"),
             "triad_GBps": med("triad_GBps"),
             "bytes_per_cell": rows[0].get("bytes_per_cell", 0.0),
             "flops_per_cell": rows[0].get("flops_per_cell", 0.0),

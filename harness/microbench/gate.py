@@ -114,11 +114,11 @@ def print_times(path):
     w = max(len(n) for n in s)
     print(f"\ntimes (information, not gating): {path}, build {ctx.get('efsi_build', '?')}, "
           f"{ctx.get('mpi_ranks', '?')} ranks, host {ctx.get('host_name', '?')}")
-    print(f"| {'kernel':<{w}} | {'median us':>10} | {'CPU min us':>10} | {'GB/s':>7} | {'GFLOP/s':>7} | {'of triad':>8} |")
-    print(f"|{'-' * (w + 2)}|{'-' * 12}|{'-' * 12}|{'-' * 9}|{'-' * 9}|{'-' * 10}|")
+    print(f"| {'kernel':<{w}} | {'median us':>10} | {'CPU min us':>10} | {'GB/s':>7} | {'GFLOP/s':>7} | {'of triad':>8} | {'of roof':>7} |")
+    print(f"|{'-' * (w + 2)}|{'-' * 12}|{'-' * 12}|{'-' * 9}|{'-' * 9}|{'-' * 10}|{'-' * 9}|")
     for name, r in s.items():
         print(f"| {name:<{w}} | {r['median_us']:10.4g} | {r['cpu_min_us']:10.4g} | {r['GBps']:7.3g} | "
-              f"{r['GFLOPs']:7.3g} | {r['roofline_fraction']:8.3f} |")
+              f"{r['GFLOPs']:7.3g} | {r['roofline_fraction']:8.3f} | {r.get('roof_fraction', 0.0):7.3f} |")
 
 
 def write(run_dir, directory, machine):

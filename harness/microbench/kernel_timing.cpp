@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "compute_probe.hpp"
 #include "stream_probe.hpp"
 
 namespace efsi::bench {
@@ -33,6 +34,7 @@ const std::string& kernel_name() { return g_kernel_name; }
 void report_kernel(benchmark::State& state, std::vector<Times>& times, const KernelCost& cost) {
   // Every rank holds the same times (section_times) and runs the probe together.
   const Times probe = triad_probe().best(MPI_COMM_WORLD, kProbePasses);
+  const Times compute = compute_probe().best(MPI_COMM_WORLD, kProbePasses);
   if (times.empty()) return;
   std::vector<double> wall;
   double cpu_min = times.front().cpu;
@@ -58,6 +60,15 @@ void report_kernel(benchmark::State& state, std::vector<Times>& times, const Ker
   state.counters["triad_us"] = probe.wall * 1e6;
   state.counters["triad_GBps"] = triad_gbps;
   state.counters["roofline_fraction"] = triad_gbps > 0 ? gbps / triad_gbps : 0.0;
+  // The roofline: what the counted flops and bytes allow is the lower of the compute roof
+  // and the bandwidth roof times the arithmetic intensity; the kernel's fraction of it.
+  const double peak = compute.wall > 0 ? compute_probe().flops() / compute.wall / 1e9 : 0.0;
+  const double gflops = t_med > 0 ? flops / t_med / 1e9 : 0.0;
+  const double intensity = bytes > 0 ? flops / bytes : 0.0;
+  const double attainable = bytes > 0 ? std::min(peak, intensity * triad_gbps) : peak;
+  state.counters["compute_GFLOPs"] = peak;
+  state.counters["compute_fraction"] = peak > 0 ? gflops / peak : 0.0;
+  state.counters["roof_fraction"] = attainable > 0 ? gflops / attainable : 0.0;
 }
 
 void report_counts(benchmark::State& state, const MpiCensus& used, const KernelCost& cost, int calls) {

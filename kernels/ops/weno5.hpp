@@ -32,7 +32,7 @@ inline constexpr double weno5_epsilon = 1e-6;
 // dq/dx from the five difference quotients v1..v5 ordered from the far upwind end: for
 // left-biased data v_k = (q_{k-2} - q_{k-3}) / h, i.e. the quotients across
 // [i-3,i-2], ..., [i+1,i+2]. Odd in v (a mirrored stencil gives the negated derivative).
-inline double weno5_upwind(double v1, double v2, double v3, double v4, double v5) {
+[[gnu::always_inline]] inline double weno5_upwind(double v1, double v2, double v3, double v4, double v5) {
   // Candidate third-order derivatives, times 6.
   const double p1 = 2.0 * v1 - 7.0 * v2 + 11.0 * v3;
   const double p2 = -v2 + 5.0 * v3 + 2.0 * v4;
@@ -59,7 +59,7 @@ inline double weno5_upwind(double v1, double v2, double v3, double v4, double v5
 // dq/dx at the centre point q0 from the seven points q_{-3}..q_{+3} spaced h = 1 / inv_h:
 // the left-biased stencil q_{-3}..q_{+2} when velocity > 0, the right-biased q_{-2}..q_{+3}
 // otherwise. The advection term is velocity * weno5_derivative(...).
-inline double weno5_derivative(double qm3, double qm2, double qm1, double q0, double qp1, double qp2,
+[[gnu::always_inline]] inline double weno5_derivative(double qm3, double qm2, double qm1, double q0, double qp1, double qp2,
                                double qp3, double velocity, double inv_h) {
   // The right-biased quotients are the negated left-biased quotients of the mirrored data,
   // so one evaluation serves both sides and the choice compiles to selects.

@@ -4,42 +4,13 @@
 #include <cmath>
 #include <type_traits>
 
+#include "box_loops.hpp"
 #include "constitutive.hpp"
-#include "weno5.hpp"
 
 namespace efsi {
 namespace {
 
 using Inv = InverseSpacing;
-
-template <class F>
-void for_box(const Box& b, F&& f) {
-  if (b.empty()) return;
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
-    for (int j = b.lo[Y]; j < b.hi[Y]; ++j)
-      // Every kernel writes one output array that none of its inputs alias; without this
-      // GCC gives up on the run-time alias checks and leaves the stencils scalar.
-#pragma omp simd
-      for (int i = b.lo[X]; i < b.hi[X]; ++i) f(i, j, k);
-}
-
-// Calls g(piece, is_wall_row) for the pieces of `b` split at the wall rows j = wall_lo and
-// j = wall_hi, so that no loop over i carries the wall test.
-template <class G>
-void split_wall_rows(const Box& b, int wall_lo, int wall_hi, G&& g) {
-  for (int j = b.lo[Y]; j < b.hi[Y];) {
-    const bool wall = j == wall_lo || j == wall_hi;
-    int e = j + 1;
-    if (!wall)
-      while (e < b.hi[Y] && e != wall_lo && e != wall_hi) ++e;
-    Box piece = b;
-    piece.lo[Y] = j;
-    piece.hi[Y] = e;
-    g(piece, wall);
-    j = e;
-  }
-}
 
 template <int A, int B>
 void stress_component(const FieldSet& s, const Physics& ph, Field& t, const Box& box) {
@@ -121,71 +92,6 @@ void momentum_component(const FieldSet& s, const Physics& ph, const std::array<F
   }
 }
 
-// v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
-template <Stagger T, int M>
-inline double weno_advection(const FieldSet& s, const Inv& inv, const Field& q, int i, int j, int k) {
-  const double vel = average<face_location(M), T>(s.vel(M), i, j, k);
-  const std::ptrdiff_t st = M == X ? 1 : M == Y ? q.stride_y() : q.stride_z();
-  const double* c = q.data() + q.index(i, j, k);
-  return vel * weno5_derivative(c[-3 * st], c[-2 * st], c[-st], c[0], c[st], c[2 * st], c[3 * st], vel, inv.h[M]);
-}
-
-// (L.Bt + Bt.L^T)_AB at tensor_location(A, B), each factor averaged to that location.
-template <int A, int B, int M>
-inline double upper_convected_term(const FieldSet& s, const Inv& inv, int i, int j, int k) {
-  constexpr Stagger T = tensor_location(A, B);
-  auto L = [&](auto a_tag, auto m_tag) {
-    constexpr int a = decltype(a_tag)::value, m = decltype(m_tag)::value;
-    return average<tensor_location(a, m), T>([&](int x, int y, int z) { return grad_v<a, m>(s, inv, x, y, z); }, i,
-                                             j, k);
-  };
-  using IA = std::integral_constant<int, A>;
-  using IB = std::integral_constant<int, B>;
-  using IM = std::integral_constant<int, M>;
-  const double b_mb = average<tensor_location(M, B), T>(s.B(M, B), i, j, k);
-  const double b_am = average<tensor_location(A, M), T>(s.B(A, M), i, j, k);
-  return L(IA{}, IM{}) * b_mb + b_am * L(IB{}, IM{});
-}
-
-template <int A, int B>
-void transport_component(const FieldSet& s, Field& out, const Box& cells) {
-  const Inv inv(s.domain());
-  constexpr Stagger T = tensor_location(A, B);
-  const Field& q = s.B(A, B);
-  // The top wall face of a field staggered in y is owned (see field.hpp).
-  const Box box = owned_extent(q, cells);
-  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
-  auto body = [&](auto with_y) {
-    return [&](int i, int j, int k) {
-      double adv = weno_advection<T, X>(s, inv, q, i, j, k) + weno_advection<T, Z>(s, inv, q, i, j, k);
-      if constexpr (decltype(with_y)::value) adv += weno_advection<T, Y>(s, inv, q, i, j, k);
-      const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) +
-                        upper_convected_term<A, B, Y>(s, inv, i, j, k) + upper_convected_term<A, B, Z>(s, inv, i, j, k);
-      out(i, j, k) = uc - adv;
-    };
-  };
-  if constexpr (is_staggered(T, Y)) {
-    // On a wall face v = 0 exactly, and the y stencil would reach past the ghosts.
-    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
-      if (wall) for_box(b, body(std::false_type{}));
-      else for_box(b, body(std::true_type{}));
-    });
-  } else {
-    for_box(box, body(std::true_type{}));
-  }
-}
-
-
-template <int A, int B>
-void stretching_component(const FieldSet& s, double dt, const Field& base, Field& out, const Box& cells) {
-  const Inv inv(s.domain());
-  for_box(owned_extent(out, cells), [&](int i, int j, int k) {
-    const double uc = upper_convected_term<A, B, X>(s, inv, i, j, k) + upper_convected_term<A, B, Y>(s, inv, i, j, k) +
-                      upper_convected_term<A, B, Z>(s, inv, i, j, k);
-    out(i, j, k) = base(i, j, k) + dt * uc;
-  });
-}
-
 template <int C>
 void stress_difference_component(const std::array<Field, 6>& tau_a, const std::array<Field, 6>& tau_b,
                                  const FieldSet& s, double c, const Field& base, Field& out, const Box& box) {
@@ -251,25 +157,6 @@ void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Fi
   momentum_component<Z>(s, ph, tau, dvdt[2], faces);
 }
 
-void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells) {
-  {
-    const Inv inv(s.domain());
-    const Field& phi = s.phi();
-    for_box(cells, [&](int i, int j, int k) {
-      const double adv = weno_advection<Stagger::cell, X>(s, inv, phi, i, j, k) +
-                         weno_advection<Stagger::cell, Y>(s, inv, phi, i, j, k) +
-                         weno_advection<Stagger::cell, Z>(s, inv, phi, i, j, k);
-      dphidt(i, j, k) = -adv;
-    });
-  }
-  transport_component<0, 0>(s, dBdt[0], cells);
-  transport_component<1, 1>(s, dBdt[1], cells);
-  transport_component<2, 2>(s, dBdt[2], cells);
-  transport_component<0, 1>(s, dBdt[3], cells);
-  transport_component<0, 2>(s, dBdt[4], cells);
-  transport_component<1, 2>(s, dBdt[5], cells);
-}
-
 Box owned_extent(const Field& q, const Box& cells) {
   Box box = cells;
   if (q.owned_end(Y) > q.n()[Y] && box.hi[Y] == q.n()[Y]) box.hi[Y] = q.owned_end(Y);
@@ -288,16 +175,6 @@ void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field
   stress_component<0, 1>(s, ph, tau[3], owned_extent(tau[3], owned));
   stress_component<0, 2>(s, ph, tau[4], owned_extent(tau[4], owned));
   stress_component<1, 2>(s, ph, tau[5], owned_extent(tau[5], owned));
-}
-
-void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
-                    const Box& cells) {
-  stretching_component<0, 0>(s, dt, base[0], out[0], cells);
-  stretching_component<1, 1>(s, dt, base[1], out[1], cells);
-  stretching_component<2, 2>(s, dt, base[2], out[2], cells);
-  stretching_component<0, 1>(s, dt, base[3], out[3], cells);
-  stretching_component<0, 2>(s, dt, base[4], out[4], cells);
-  stretching_component<1, 2>(s, dt, base[5], out[5], cells);
 }
 
 void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,

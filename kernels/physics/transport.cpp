@@ -1,0 +1,125 @@
+// The transport of phi and Bt (docs/numerics.md, "Spatial discretisation"): WENO5 upwind
+// advection and the upper-convected stretching of Bt.  Each output row is computed by one
+// vectorised loop per advection axis and per stretching term, partial sums kept in scratch
+// rows: one loop over all of them spills its registers, and GCC then leaves the WENO
+// derivative out of line and the loops scalar.  The sums are formed in the order of the
+// equations as written, so the split changes no bit.
+#include <type_traits>
+
+#include "box_loops.hpp"
+#include "constitutive.hpp"
+#include "fsi_equations.hpp"
+#include "weno5.hpp"
+
+namespace efsi {
+namespace {
+
+using Inv = InverseSpacing;
+
+// v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
+template <Stagger T, int M>
+[[gnu::always_inline]] inline double weno_advection(const FieldSet& s, const Inv& inv, const Field& q, int i, int j, int k) {
+  const double vel = average<face_location(M), T>(s.vel(M), i, j, k);
+  const std::ptrdiff_t st = M == X ? 1 : M == Y ? q.stride_y() : q.stride_z();
+  const double* c = q.data() + q.index(i, j, k);
+  return vel * weno5_derivative(c[-3 * st], c[-2 * st], c[-st], c[0], c[st], c[2 * st], c[3 * st], vel, inv.h[M]);
+}
+
+// (L.Bt + Bt.L^T)_AB at tensor_location(A, B), each factor averaged to that location.
+template <int A, int B, int M>
+[[gnu::always_inline]] inline double upper_convected_term(const FieldSet& s, const Inv& inv, int i, int j, int k) {
+  constexpr Stagger T = tensor_location(A, B);
+  auto L = [&](auto a_tag, auto m_tag) {
+    constexpr int a = decltype(a_tag)::value, m = decltype(m_tag)::value;
+    return average<tensor_location(a, m), T>([&](int x, int y, int z) { return grad_v<a, m>(s, inv, x, y, z); }, i,
+                                             j, k);
+  };
+  using IA = std::integral_constant<int, A>;
+  using IB = std::integral_constant<int, B>;
+  using IM = std::integral_constant<int, M>;
+  const double b_mb = average<tensor_location(M, B), T>(s.B(M, B), i, j, k);
+  const double b_am = average<tensor_location(A, M), T>(s.B(A, M), i, j, k);
+  return L(IA{}, IM{}) * b_mb + b_am * L(IB{}, IM{});
+}
+
+// sum_M (L.Bt + Bt.L^T)_AB, the terms added along the row in the order M = X, Y, Z.
+template <int A, int B>
+inline void stretching_row(const FieldSet& s, const Inv& inv, const Box& row, int j, int k, double* uc) {
+  along_row(row, [&](int i) { uc[i] = upper_convected_term<A, B, X>(s, inv, i, j, k); });
+  along_row(row, [&](int i) { uc[i] += upper_convected_term<A, B, Y>(s, inv, i, j, k); });
+  along_row(row, [&](int i) { uc[i] += upper_convected_term<A, B, Z>(s, inv, i, j, k); });
+}
+
+// The row (j, k) of `box` as a box of its own.
+inline Box row_of(const Box& box, int j, int k) { return {{box.lo[X], j, k}, {box.hi[X], j + 1, k + 1}}; }
+
+template <int A, int B>
+void transport_component(const FieldSet& s, Field& out, const Box& cells) {
+  const Inv inv(s.domain());
+  constexpr Stagger T = tensor_location(A, B);
+  const Field& q = s.B(A, B);
+  // The top wall face of a field staggered in y is owned (see field.hpp).
+  const Box box = owned_extent(q, cells);
+  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+  for_rows<2>(box, [&](int j, int k, double* scratch) {
+    const Box row = row_of(box, j, k);
+    double* adv = scratch - row.lo[X];
+    double* uc = adv + (row.hi[X] - row.lo[X]);
+    // On a wall face v = 0 exactly, and the y stencil would reach past the ghosts.
+    const bool with_y = !(is_staggered(T, Y) && (j == wall_lo || j == wall_hi));
+    along_row(row, [&](int i) { adv[i] = weno_advection<T, X>(s, inv, q, i, j, k); });
+    along_row(row, [&](int i) { adv[i] += weno_advection<T, Z>(s, inv, q, i, j, k); });
+    if (with_y) along_row(row, [&](int i) { adv[i] += weno_advection<T, Y>(s, inv, q, i, j, k); });
+    stretching_row<A, B>(s, inv, row, j, k, uc);
+    along_row(row, [&](int i) { out(i, j, k) = uc[i] - adv[i]; });
+  });
+}
+
+template <int A, int B>
+void stretching_component(const FieldSet& s, double dt, const Field& base, Field& out, const Box& cells) {
+  const Inv inv(s.domain());
+  const Box box = owned_extent(out, cells);
+  for_rows<1>(box, [&](int j, int k, double* scratch) {
+    const Box row = row_of(box, j, k);
+    double* uc = scratch - row.lo[X];
+    stretching_row<A, B>(s, inv, row, j, k, uc);
+    along_row(row, [&](int i) { out(i, j, k) = base(i, j, k) + dt * uc[i]; });
+  });
+}
+
+void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
+  const Inv inv(s.domain());
+  const Field& phi = s.phi();
+  for_rows<1>(cells, [&](int j, int k, double* scratch) {
+    const Box row = row_of(cells, j, k);
+    double* adv = scratch - row.lo[X];
+    along_row(row, [&](int i) { adv[i] = weno_advection<Stagger::cell, X>(s, inv, phi, i, j, k); });
+    along_row(row, [&](int i) { adv[i] += weno_advection<Stagger::cell, Y>(s, inv, phi, i, j, k); });
+    along_row(row, [&](int i) { adv[i] += weno_advection<Stagger::cell, Z>(s, inv, phi, i, j, k); });
+    along_row(row, [&](int i) { dphidt(i, j, k) = -adv[i]; });
+  });
+}
+
+}  // namespace
+
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells) {
+  phi_transport(s, dphidt, cells);
+  transport_component<0, 0>(s, dBdt[0], cells);
+  transport_component<1, 1>(s, dBdt[1], cells);
+  transport_component<2, 2>(s, dBdt[2], cells);
+  transport_component<0, 1>(s, dBdt[3], cells);
+  transport_component<0, 2>(s, dBdt[4], cells);
+  transport_component<1, 2>(s, dBdt[5], cells);
+}
+
+void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
+                    const Box& cells) {
+  stretching_component<0, 0>(s, dt, base[0], out[0], cells);
+  stretching_component<1, 1>(s, dt, base[1], out[1], cells);
+  stretching_component<2, 2>(s, dt, base[2], out[2], cells);
+  stretching_component<0, 1>(s, dt, base[3], out[3], cells);
+  stretching_component<0, 2>(s, dt, base[4], out[4], cells);
+  stretching_component<1, 2>(s, dt, base[5], out[5], cells);
+}
+
+}  // namespace efsi
