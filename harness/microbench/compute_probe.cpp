@@ -4,7 +4,6 @@
 #include <omp.h>
 
 #include <algorithm>
-#include <limits>
 
 namespace efsi::bench {
 namespace {
@@ -42,16 +41,7 @@ Times ComputeProbe::run(MPI_Comm comm) {
   });
 }
 
-Times ComputeProbe::best(MPI_Comm comm, int passes) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Times t{inf, inf};
-  for (int p = 0; p < passes; ++p) {
-    const Times r = run(comm);
-    t.wall = std::min(t.wall, r.wall);
-    t.cpu = std::min(t.cpu, r.cpu);
-  }
-  return t;
-}
+Times ComputeProbe::best(MPI_Comm comm, int passes) { return best_of(passes, [&] { return run(comm); }); }
 
 ComputeProbe& compute_probe() {
   static ComputeProbe probe;

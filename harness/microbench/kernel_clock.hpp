@@ -6,7 +6,9 @@
 // work (callgrind_region.hpp), never on a time.
 #include <mpi.h>
 
+#include <algorithm>
 #include <ctime>
+#include <limits>
 
 namespace efsi::bench {
 
@@ -31,6 +33,20 @@ Times section_times(MPI_Comm comm, Body&& body) {
   double most[2] = {0, 0};
   MPI_Allreduce(local, most, 2, MPI_DOUBLE, MPI_MAX, comm);
   return {most[0], -most[1]};
+}
+
+// The least wall and the least CPU time of `passes` calls of run() (each returning Times):
+// a probe's times with the least disturbance.
+template <class Run>
+Times best_of(int passes, Run&& run) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  Times t{inf, inf};
+  for (int p = 0; p < passes; ++p) {
+    const Times r = run();
+    t.wall = std::min(t.wall, r.wall);
+    t.cpu = std::min(t.cpu, r.cpu);
+  }
+  return t;
 }
 
 }  // namespace efsi::bench

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <limits>
 #include <new>
 
 namespace efsi::bench {
@@ -50,16 +49,7 @@ Times TriadProbe::run(MPI_Comm comm) {
   });
 }
 
-Times TriadProbe::best(MPI_Comm comm, int passes) {
-  constexpr double inf = std::numeric_limits<double>::infinity();
-  Times t{inf, inf};
-  for (int p = 0; p < passes; ++p) {
-    const Times r = run(comm);
-    t.wall = std::min(t.wall, r.wall);
-    t.cpu = std::min(t.cpu, r.cpu);
-  }
-  return t;
-}
+Times TriadProbe::best(MPI_Comm comm, int passes) { return best_of(passes, [&] { return run(comm); }); }
 
 TriadProbe& triad_probe() {
   static TriadProbe probe;
