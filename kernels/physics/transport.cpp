@@ -42,16 +42,20 @@ template <int A, int B, int M>
   return L(IA{}, IM{}) * b_mb + b_am * L(IB{}, IM{});
 }
 
-// sum_M (L.Bt + Bt.L^T)_AB, the terms added along the row in the order M = X, Y, Z.
-template <int A, int B>
-inline void stretching_row(const FieldSet& s, const Inv& inv, const Box& row, int j, int k, double* uc) {
-  along_row(row, [&](int i) { uc[i] = upper_convected_term<A, B, X>(s, inv, i, j, k); });
-  along_row(row, [&](int i) { uc[i] += upper_convected_term<A, B, Y>(s, inv, i, j, k); });
-  along_row(row, [&](int i) { uc[i] += upper_convected_term<A, B, Z>(s, inv, i, j, k); });
+// sum_M (L.Bt + Bt.L^T)_AB, the terms added along the line in the order M = X, Y, Z.
+template <int A, int B, class Ln>
+inline void stretching_line(const FieldSet& s, const Inv& inv, const Ln& l, double* uc) {
+  along(l, [&](int t, int i, int j, int k) { uc[t] = upper_convected_term<A, B, X>(s, inv, i, j, k); });
+  along(l, [&](int t, int i, int j, int k) { uc[t] += upper_convected_term<A, B, Y>(s, inv, i, j, k); });
+  along(l, [&](int t, int i, int j, int k) { uc[t] += upper_convected_term<A, B, Z>(s, inv, i, j, k); });
 }
 
-// The row (j, k) of `box` as a box of its own.
-inline Box row_of(const Box& box, int j, int k) { return {{box.lo[X], j, k}, {box.hi[X], j + 1, k + 1}}; }
+// adv = sum over the axes M0, M... of v_M dq/dx_M, added in the order given.
+template <Stagger T, int M0, int... M, class Ln>
+inline void advection_line(const FieldSet& s, const Inv& inv, const Field& q, const Ln& l, double* adv) {
+  along(l, [&](int t, int i, int j, int k) { adv[t] = weno_advection<T, M0>(s, inv, q, i, j, k); });
+  (along(l, [&](int t, int i, int j, int k) { adv[t] += weno_advection<T, M>(s, inv, q, i, j, k); }), ...);
+}
 
 template <int A, int B>
 void transport_component(const FieldSet& s, Field& out, const Box& cells) {
@@ -61,42 +65,34 @@ void transport_component(const FieldSet& s, Field& out, const Box& cells) {
   // The top wall face of a field staggered in y is owned (see field.hpp).
   const Box box = owned_extent(q, cells);
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
-  for_rows<2>(box, [&](int j, int k, double* scratch) {
-    const Box row = row_of(box, j, k);
-    double* adv = scratch - row.lo[X];
-    double* uc = adv + (row.hi[X] - row.lo[X]);
-    // On a wall face v = 0 exactly, and the y stencil would reach past the ghosts.
-    const bool with_y = !(is_staggered(T, Y) && (j == wall_lo || j == wall_hi));
-    along_row(row, [&](int i) { adv[i] = weno_advection<T, X>(s, inv, q, i, j, k); });
-    along_row(row, [&](int i) { adv[i] += weno_advection<T, Z>(s, inv, q, i, j, k); });
-    if (with_y) along_row(row, [&](int i) { adv[i] += weno_advection<T, Y>(s, inv, q, i, j, k); });
-    stretching_row<A, B>(s, inv, row, j, k, uc);
-    along_row(row, [&](int i) { out(i, j, k) = uc[i] - adv[i]; });
-  });
+  auto pieces = [&](const Box& b, bool wall) {
+    for_lines<2>(b, [&](const auto& l, double* adv) {
+      double* uc = adv + l.n;
+      // On a wall face v = 0 exactly, and the y stencil would reach past the ghosts.
+      if (wall) advection_line<T, X, Z>(s, inv, q, l, adv);
+      else advection_line<T, X, Z, Y>(s, inv, q, l, adv);
+      stretching_line<A, B>(s, inv, l, uc);
+      along(l, [&](int t, int i, int j, int k) { out(i, j, k) = uc[t] - adv[t]; });
+    });
+  };
+  if constexpr (is_staggered(T, Y)) split_wall_rows(box, wall_lo, wall_hi, pieces);
+  else pieces(box, false);
 }
 
 template <int A, int B>
 void stretching_component(const FieldSet& s, double dt, const Field& base, Field& out, const Box& cells) {
   const Inv inv(s.domain());
-  const Box box = owned_extent(out, cells);
-  for_rows<1>(box, [&](int j, int k, double* scratch) {
-    const Box row = row_of(box, j, k);
-    double* uc = scratch - row.lo[X];
-    stretching_row<A, B>(s, inv, row, j, k, uc);
-    along_row(row, [&](int i) { out(i, j, k) = base(i, j, k) + dt * uc[i]; });
+  for_lines<1>(owned_extent(out, cells), [&](const auto& l, double* uc) {
+    stretching_line<A, B>(s, inv, l, uc);
+    along(l, [&](int t, int i, int j, int k) { out(i, j, k) = base(i, j, k) + dt * uc[t]; });
   });
 }
 
 void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
   const Inv inv(s.domain());
-  const Field& phi = s.phi();
-  for_rows<1>(cells, [&](int j, int k, double* scratch) {
-    const Box row = row_of(cells, j, k);
-    double* adv = scratch - row.lo[X];
-    along_row(row, [&](int i) { adv[i] = weno_advection<Stagger::cell, X>(s, inv, phi, i, j, k); });
-    along_row(row, [&](int i) { adv[i] += weno_advection<Stagger::cell, Y>(s, inv, phi, i, j, k); });
-    along_row(row, [&](int i) { adv[i] += weno_advection<Stagger::cell, Z>(s, inv, phi, i, j, k); });
-    along_row(row, [&](int i) { dphidt(i, j, k) = -adv[i]; });
+  for_lines<1>(cells, [&](const auto& l, double* adv) {
+    advection_line<Stagger::cell, X, Y, Z>(s, inv, s.phi(), l, adv);
+    along(l, [&](int t, int i, int j, int k) { dphidt(i, j, k) = -adv[t]; });
   });
 }
 
