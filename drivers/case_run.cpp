@@ -128,7 +128,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const long measured = req.total_steps - 1;
 
   RunOutcome out;
-  out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+  out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const CartDecomposition& dec = *out.decomp;
   const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
   if (is_root()) {

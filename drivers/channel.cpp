@@ -38,7 +38,9 @@ struct Options {
 // --calibrate: the paper's N_S count on a developed state (sor_calibration.hpp), one rank.
 int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle>& particles) {
   check_writable(o.series, "--series");
-  CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, c.forced_dims);
+  int ranks = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+  CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const std::optional<double> given = o.m.method_values.at("--eps");
   std::vector<double> eps;
   if (given) eps.push_back(*given);

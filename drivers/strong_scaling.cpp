@@ -32,10 +32,10 @@ struct Options {
 double gib(double bytes) { return bytes / (1024.0 * 1024.0 * 1024.0); }
 
 int dry_run(const ChannelCase& c, int ranks, std::size_t particles) {
-  const Int3 dims = choose_dims(ranks, c.domain.cells, kTransportHalo, c.forced_dims);
+  const Int3 dims = rank_grid(c, ranks);
   Int3 local{};
   for (int a = 0; a < 3; ++a) local[a] = c.domain.cells[a] / dims[a];
-  const MemoryEstimate m = estimate_rank_memory(c, local);
+  const MemoryEstimate m = estimate_rank_memory(c, local, dims);
   if (is_root()) {
     std::printf("strong_scaling dry run: %s cells, box %.4g x %.4g x %.4g, %zu particles, %s\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],

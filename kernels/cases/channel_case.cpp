@@ -29,12 +29,24 @@ double poiseuille_centre_velocity(const ChannelCase& c) {
 
 double default_velocity_limit(const ChannelCase& c) { return 100.0 * std::fabs(poiseuille_centre_velocity(c)); }
 
+Int3 rank_grid(const ChannelCase& c, int ranks) {
+  const bool forced = c.forced_dims[0] > 0 || c.forced_dims[1] > 0 || c.forced_dims[2] > 0;
+  const Int3 preferred = c.method.spec->preferred_rank_grid();
+  if (!forced && preferred != Int3{0, 0, 0}) {
+    try {
+      return choose_dims(ranks, c.domain.cells, kTransportHalo, preferred);
+    } catch (const ConfigError&) {  // it does not fit this grid: the free choice below
+    }
+  }
+  return choose_dims(ranks, c.domain.cells, kTransportHalo, c.forced_dims);
+}
+
 std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_end) {
   const Domain& d = c.domain;
   for (int a = 0; a < 3; ++a)
     if (!(d.length[a] > 0))
       throw ConfigError("box length " + std::to_string(d.length[a]) + " must be positive");
-  choose_dims(ranks, d.cells, kTransportHalo, c.forced_dims);
+  rank_grid(c, ranks);
   c.method.spec->check_grid(d.cells);
   const Physics& ph = c.solver.physics;
   check_time_step(c.solver.dt, d, ph.rho, ph.mu, ph.G, channel_velocity_estimate(d, ph.rho, ph.mu, t_end, std::fabs(ph.force)));

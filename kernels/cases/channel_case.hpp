@@ -34,6 +34,12 @@ ChannelCase weak_block_case(int block, int ranks);
 // The method and the Crank-Nicolson sweeps it asks for (c.solver.cn_sweeps).
 void choose_method(ChannelCase& c, MethodChoice m);
 
+// The run's rank grid on `ranks` ranks: c.forced_dims where the user (or the case: the weak
+// block's ranks side by side in x) forces any; else the method's preferred pattern
+// (MethodSpec::preferred_rank_grid: the FFT solve keeps x whole) where it fits the grid;
+// else choose_dims' free choice.  Throws ConfigError when nothing fits.
+Int3 rank_grid(const ChannelCase& c, int ranks);
+
 // Everything that can be checked without allocating a field: decomposition for `ranks`,
 // time step under the viscous, elastic and advective limits, particles inside the box,
 // apart and two cells from the walls, the slab two cells from the walls. Throws

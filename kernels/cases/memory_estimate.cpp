@@ -3,7 +3,7 @@
 #include "field.hpp"
 
 namespace efsi {
-MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local) {
+MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local, const Int3& dims) {
   ChannelCase probe = c;
   probe.domain.cells = {16, 16, 16};
   for (int a = 0; a < 3; ++a) probe.domain.length[a] = 16 * c.domain.spacing(a);
@@ -18,7 +18,7 @@ MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local) {
   m.fields = static_cast<int>(recorder.specs().size());
   for (const FieldSpec& f : recorder.specs())
     m.field_bytes += Field::allocation_doubles(local, f.halo) * sizeof(double);
-  m.solver_bytes = static_cast<std::size_t>(c.method.spec->extra_bytes(local));
+  m.solver_bytes = static_cast<std::size_t>(c.method.spec->extra_bytes(local, dims));
   return m;
 }
 

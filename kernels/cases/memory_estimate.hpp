@@ -16,8 +16,9 @@ struct MemoryEstimate {
 
 // Builds the case's solver once on a 16^3 block on this process alone, with a
 // FieldRecorder, to learn every field it makes (one source of truth: the constructors),
-// then sizes them for `local`. Halo buffers, particle lists and MPI's own memory are
-// surface-sized or small and not counted. Not collective.
-MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local);
+// then sizes them for `local`; the method adds its own for the `dims` rank grid. Halo
+// buffers, particle lists and MPI's own memory are surface-sized or small and not counted.
+// Not collective.
+MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local, const Int3& dims);
 
 }  // namespace efsi

@@ -70,6 +70,7 @@ void build_transpose(FftPoisson::Transpose& t, MPI_Comm comm, const Int3& my_coo
                      const std::function<Layout(const Int3&)>& dst) {
   t.comm = comm;
   t.elem = elem;
+  t.volume = src(my_coords).volume();
   int size = 1, rank = 0;
   MPI_Comm_size(comm, &size);
   MPI_Comm_rank(comm, &rank);
@@ -96,6 +97,12 @@ void build_transpose(FftPoisson::Transpose& t, MPI_Comm comm, const Int3& my_coo
   if (static_cast<std::int64_t>(t.send_idx.size()) != my_src.volume() ||
       static_cast<std::int64_t>(t.recv_idx.size()) != my_dst.volume())
     throw ConfigError("FftPoisson: pencil layouts do not cover the block (internal error)");
+  t.identity = size == 1 && my_src.lo == my_dst.lo && my_src.hi == my_dst.hi && my_src.ord == my_dst.ord;
+  if (t.identity) {  // no index lists or buffers: forward and backward copy the block
+    t.send_idx.clear();
+    t.recv_idx.clear();
+    return;
+  }
   t.send_buf.resize(t.send_idx.size() * elem);
   t.recv_buf.resize(t.recv_idx.size() * elem);
 }
@@ -148,11 +155,19 @@ std::once_flag fftw_threads_once;
 }  // namespace
 
 void FftPoisson::Transpose::forward(const double* src, double* dst) {
+  if (identity) {
+    if (dst != src) std::memcpy(dst, src, sizeof(double) * static_cast<std::size_t>(elem) * static_cast<std::size_t>(volume));
+    return;
+  }
   exchange(send_idx, recv_idx, src, dst, elem, send_buf, recv_buf, send_counts, send_displs, recv_counts,
            recv_displs, comm, mpi_seconds);
 }
 
 void FftPoisson::Transpose::backward(const double* dst, double* src) {
+  if (identity) {
+    if (src != dst) std::memcpy(src, dst, sizeof(double) * static_cast<std::size_t>(elem) * static_cast<std::size_t>(volume));
+    return;
+  }
   exchange(recv_idx, send_idx, dst, src, elem, recv_buf, send_buf, recv_counts, recv_displs, send_counts,
            send_displs, comm, mpi_seconds);
 }
@@ -201,7 +216,9 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
     l.lo[X] = split_lo(MX, P[Z], c[Z]), l.hi[X] = split_lo(MX, P[Z], c[Z] + 1);
     ysub(c, l.lo[Y], l.hi[Y]);
     l.lo[Z] = 0, l.hi[Z] = NZ;
-    l.ord = {2, 0, 1};
+    // z fastest for the z transforms where z is split; else the x-pencil's order, and the
+    // transpose from it is a copy (the z transforms then run strided).
+    l.ord = P[Z] > 1 ? Int3{2, 0, 1} : Int3{0, 1, 2};
     return l;
   };
   auto ypencil = [=](const Int3& c) {
@@ -210,7 +227,9 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
     l.lo[Y] = 0, l.hi[Y] = NY;
     const int pxy = P[X] * P[Y], r = c[X] * P[Y] + c[Y];
     l.lo[Z] = split_lo(NZ, pxy, r), l.hi[Z] = split_lo(NZ, pxy, r + 1);
-    l.ord = {1, 0, 2};
+    // y never fastest: the tridiagonal solves vectorise across the lines.  With x and y
+    // whole the z-pencil's order, so that the transpose from it is a copy.
+    l.ord = pxy == 1 ? (P[Z] > 1 ? Int3{2, 0, 1} : Int3{0, 1, 2}) : Int3{0, 1, 2};
     return l;
   };
 
@@ -224,15 +243,19 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
   const Layout l0 = block(me), l1 = xpencil(me, NX), l2 = zpencil(me), l3 = ypencil(me);
   lines_x_ = l1.ext(Y) * l1.ext(Z);
   lines_z_ = l2.volume() / NZ;
-  kx0_ = l3.lo[X], nkx_ = static_cast<int>(l3.ext(X));
-  kz0_ = l3.lo[Z], nkz_ = static_cast<int>(l3.ext(Z));
 
   auto alloc = [](std::int64_t doubles) { return Buf(fftw_alloc_real(static_cast<size_t>(std::max<std::int64_t>(doubles, 2)))); };
+  // A transpose that is a copy shares its buffers instead.
   b0_ = alloc(l0.volume());
-  b1_ = alloc(l1.volume());
+  p0_ = b0_.get();
+  if (!t1_.identity) b1_ = alloc(l1.volume());
+  p1_ = t1_.identity ? p0_ : b1_.get();
   b1c_ = alloc(2 * lines_x_ * MX);
-  b2_ = alloc(2 * l2.volume());
-  b3_ = alloc(2 * l3.volume());
+  p1c_ = b1c_.get();
+  if (!t2_.identity) b2_ = alloc(2 * l2.volume());
+  p2_ = t2_.identity ? p1c_ : b2_.get();
+  if (!t3_.identity) b3_ = alloc(2 * l3.volume());
+  p3_ = t3_.identity ? p2_ : b3_.get();
 
   std::call_once(fftw_threads_once, [] { fftw_init_threads(); });
   fftw_plan_with_nthreads(omp_get_max_threads());
@@ -240,16 +263,26 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
   if (lines_x_ > 0) {
     int n[1] = {NX};
     const int how = static_cast<int>(lines_x_);
-    auto* c = reinterpret_cast<fftw_complex*>(b1c_.get());
-    plan_r2c_ = fftw_plan_many_dft_r2c(1, n, how, b1_.get(), nullptr, 1, NX, c, nullptr, 1, MX, flags);
-    plan_c2r_ = fftw_plan_many_dft_c2r(1, n, how, c, nullptr, 1, MX, b1_.get(), nullptr, 1, NX, flags);
+    auto* c = reinterpret_cast<fftw_complex*>(p1c_);
+    plan_r2c_ = fftw_plan_many_dft_r2c(1, n, how, p1_, nullptr, 1, NX, c, nullptr, 1, MX, flags);
+    plan_c2r_ = fftw_plan_many_dft_c2r(1, n, how, c, nullptr, 1, MX, p1_, nullptr, 1, NX, flags);
   }
   if (lines_z_ > 0) {
-    int n[1] = {NZ};
-    const int how = static_cast<int>(lines_z_);
-    auto* c = reinterpret_cast<fftw_complex*>(b2_.get());
-    plan_zf_ = fftw_plan_many_dft(1, n, how, c, nullptr, 1, NZ, c, nullptr, 1, NZ, FFTW_FORWARD, flags);
-    plan_zb_ = fftw_plan_many_dft(1, n, how, c, nullptr, 1, NZ, c, nullptr, 1, NZ, FFTW_BACKWARD, flags);
+    // Along z with the z-pencil's strides: contiguous lines where z is split (z fastest),
+    // strided across the x-fastest block where it is whole.
+    fftw_iodim len{NZ, 0, 0}, loops[2];
+    int nloops = 0;
+    std::int64_t stride = 1;
+    for (int q = 0; q < 3; ++q) {
+      const int axis = l2.ord[q];
+      const int n = static_cast<int>(l2.ext(axis)), st = static_cast<int>(stride);
+      if (axis == Z) len.is = len.os = st;
+      else loops[nloops++] = fftw_iodim{n, st, st};
+      stride *= l2.ext(axis);
+    }
+    auto* c = reinterpret_cast<fftw_complex*>(p2_);
+    plan_zf_ = fftw_plan_guru_dft(1, &len, nloops, loops, c, c, FFTW_FORWARD, flags);
+    plan_zb_ = fftw_plan_guru_dft(1, &len, nloops, loops, c, c, FFTW_BACKWARD, flags);
   }
   if ((lines_x_ > 0 && (!plan_r2c_ || !plan_c2r_)) || (lines_z_ > 0 && (!plan_zf_ || !plan_zb_)))
     throw ConfigError("FftPoisson: FFTW could not make a plan");
@@ -265,6 +298,20 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
     const double s = std::sin(pi * k / NZ);
     lam_z_[k] = -4.0 * inv_h2_[Z] * s * s;
   }
+
+  // The y-pencil as [outer][y][lane]: the axes stored before y are the lanes.
+  int yq = 0;
+  while (l3.ord[yq] != Y) ++yq;
+  lanes_ = 1, outer_ = 1;
+  for (int q = 0; q < 3; ++q) (q < yq ? lanes_ : outer_) *= (q == yq ? 1 : l3.ext(l3.ord[q]));
+  lam_lane_.assign(static_cast<std::size_t>(lanes_ * outer_), 0.0);
+  Layout bottom = l3;
+  bottom.hi[Y] = bottom.lo[Y] + 1;
+  for_each_point(bottom, [&](const Int3& g) {
+    const std::int64_t p = l3.pos(g), o = p / (lanes_ * NY), m = p % (lanes_ * NY);
+    lam_lane_[static_cast<std::size_t>(o * lanes_ + m)] = lam_x_[g[X]] + lam_z_[g[Z]];
+    if (g[X] == 0 && g[Z] == 0) singular_ = p;
+  });
 }
 
 FftPoisson::~FftPoisson() {
@@ -293,81 +340,106 @@ void FftPoisson::solve(const Field& rhs, Field& x, double factor) {
   const double start = MPI_Wtime();
   for (Transpose* t : {&t1_, &t2_, &t3_}) t->mpi_seconds = 0.0;
 
-  double* b0 = b0_.get();
+  double* b0 = p0_;
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
       std::memcpy(b0 + nx * (j + std::int64_t{ny} * k), rhs.data() + rhs.index(0, j, k), sizeof(double) * nx);
 
   // Forward: x-pencil, r2c along x; z-pencil, c2c along z; y-pencil.
-  t1_.forward(b0, b1_.get());
+  t1_.forward(b0, p1_);
   if (plan_r2c_) fftw_execute(static_cast<fftw_plan>(plan_r2c_));
-  t2_.forward(b1c_.get(), b2_.get());
+  t2_.forward(p1c_, p2_);
   if (plan_zf_) fftw_execute(static_cast<fftw_plan>(plan_zf_));
-  t3_.forward(b2_.get(), b3_.get());
+  t3_.forward(p2_, p3_);
 
-  // Tridiagonal solves along y (contiguous lines, kx next, kz slowest).  The 1/(NX NZ)
-  // of the unnormalised inverse transforms and the caller's factor are folded in here.
+  // Tridiagonal solves along y, vectorised across a chunk of lanes at a time.  The
+  // 1/(NX NZ) of the unnormalised inverse transforms and the caller's factor are folded in.
   {
     using C = std::complex<double>;
-    C* b3 = reinterpret_cast<C*>(b3_.get());
+    C* b3 = reinterpret_cast<C*>(p3_);
     const double scale = factor / (double(NX) * NZ);
     const double a = inv_h2_[Y];
     const double dy2 = 1.0 / a;
-    const int nkx = nkx_, nkz = nkz_, kx0 = kx0_, kz0 = kz0_;
+    const std::int64_t lanes = lanes_, outer = outer_, plane = lanes_ * NY;
+    const double* lam_all = lam_lane_.data();
+    // The (0, 0) mode is singular: its rhs kept aside, its lane solved apart below.
+    std::vector<C> r0;
+    if (singular_ >= 0)
+      for (int j = 0; j < NY; ++j) r0.push_back(b3[singular_ + j * lanes]);
+    if (NY == 1) {
+      for (std::int64_t p = 0; p < lanes * outer; ++p) b3[p] = b3[p] * scale / lam_all[p];
+    } else {
 #pragma omp parallel
-    {
-      std::vector<double> cp(NY);
-      std::vector<C> dp(NY);
+      {
+        constexpr int kChunk = 64;
+        std::vector<double> cp(static_cast<std::size_t>(kChunk) * NY);
+        std::vector<C> dp(static_cast<std::size_t>(kChunk) * NY);
 #pragma omp for collapse(2) schedule(static)
-      for (int kz = 0; kz < nkz; ++kz)
-        for (int kx = 0; kx < nkx; ++kx) {
-          C* line = b3 + NY * (kx + std::int64_t{nkx} * kz);
-          const double lam = lam_x_[kx0 + kx] + lam_z_[kz0 + kz];
-          if (kx0 + kx == 0 && kz0 + kz == 0) {
-            // Singular mode: remove the mean of the rhs (compatibility), integrate the
-            // flux from the bottom wall, x_{j+1} - x_j = dy^2 sum_{i<=j} r_i, then zero mean.
-            C mean = 0;
-            for (int j = 0; j < NY; ++j) mean += line[j];
-            mean /= double(NY);
-            C s = 0, v = 0, sum = 0;
-            for (int j = 0; j < NY; ++j) {
-              const C r = (line[j] - mean) * scale;
-              line[j] = v;
-              sum += v;
-              s += r;
-              v += dy2 * s;
+        for (std::int64_t o = 0; o < outer; ++o)
+          for (std::int64_t c0 = 0; c0 < lanes; c0 += kChunk) {
+            const int w = static_cast<int>(std::min<std::int64_t>(kChunk, lanes - c0));
+            C* line = b3 + o * plane + c0;
+            const double* lam = lam_all + o * lanes + c0;
+            // Rows: a x_{j-1} + b_j x_j + a x_{j+1} = r_j; wall rows b = -a + lam.
+#pragma omp simd
+            for (int m = 0; m < w; ++m) {
+              const double b = -a + lam[m];
+              cp[m] = a / b;
+              dp[m] = line[m] * scale / b;
             }
-            const C vm = sum / double(NY);
-            for (int j = 0; j < NY; ++j) line[j] -= vm;
-            continue;
+            for (int j = 1; j < NY; ++j) {
+              const double bw = j == NY - 1 ? -a : -2 * a;
+              const double* cq = cp.data() + (j - 1) * kChunk;
+              const C* dq = dp.data() + (j - 1) * kChunk;
+              double* cj = cp.data() + j * kChunk;
+              C* dj = dp.data() + j * kChunk;
+              const C* r = line + j * lanes;
+#pragma omp simd
+              for (int m = 0; m < w; ++m) {
+                const double bj = bw + lam[m];
+                const double mm = bj - a * cq[m];
+                cj[m] = a / mm;
+                dj[m] = (r[m] * scale - a * dq[m]) / mm;
+              }
+            }
+            for (int m = 0; m < w; ++m) line[(NY - 1) * lanes + m] = dp[(NY - 1) * kChunk + m];
+            for (int j = NY - 2; j >= 0; --j) {
+              const double* cj = cp.data() + j * kChunk;
+              const C* dj = dp.data() + j * kChunk;
+              C* xj = line + j * lanes;
+              const C* up = xj + lanes;
+#pragma omp simd
+              for (int m = 0; m < w; ++m) xj[m] = dj[m] - cj[m] * up[m];
+            }
           }
-          if (NY == 1) {
-            line[0] = line[0] * scale / lam;
-            continue;
-          }
-          // Rows: a x_{j-1} + b_j x_j + a x_{j+1} = r_j; wall rows b = -a + lam.
-          double b = -a + lam;
-          cp[0] = a / b;
-          dp[0] = line[0] * scale / b;
-          for (int j = 1; j < NY; ++j) {
-            const double bj = (j == NY - 1 ? -a : -2 * a) + lam;
-            const double m = bj - a * cp[j - 1];
-            cp[j] = a / m;
-            dp[j] = (line[j] * scale - a * dp[j - 1]) / m;
-          }
-          line[NY - 1] = dp[NY - 1];
-          for (int j = NY - 2; j >= 0; --j) line[j] = dp[j] - cp[j] * line[j + 1];
-        }
+      }
+    }
+    if (singular_ >= 0) {
+      // Remove the mean of the rhs (compatibility), integrate the flux from the bottom
+      // wall, x_{j+1} - x_j = dy^2 sum_{i<=j} r_i, then zero mean.
+      C mean = 0;
+      for (int j = 0; j < NY; ++j) mean += r0[j];
+      mean /= double(NY);
+      C s = 0, v = 0, sum = 0;
+      for (int j = 0; j < NY; ++j) {
+        const C r = (r0[j] - mean) * scale;
+        r0[j] = v;
+        sum += v;
+        s += r;
+        v += dy2 * s;
+      }
+      const C vm = sum / double(NY);
+      for (int j = 0; j < NY; ++j) b3[singular_ + j * lanes] = r0[j] - vm;
     }
   }
 
   // Backward.
-  t3_.backward(b3_.get(), b2_.get());
+  t3_.backward(p3_, p2_);
   if (plan_zb_) fftw_execute(static_cast<fftw_plan>(plan_zb_));
-  t2_.backward(b2_.get(), b1c_.get());
+  t2_.backward(p2_, p1c_);
   if (plan_c2r_) fftw_execute(static_cast<fftw_plan>(plan_c2r_));
-  t1_.backward(b1_.get(), b0);
+  t1_.backward(p1_, b0);
 
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < nz; ++k)

@@ -62,10 +62,12 @@ class FftPoisson {
   struct Transpose {
     MPI_Comm comm = MPI_COMM_NULL;
     int elem = 1;  // doubles per element (1 real, 2 complex)
+    std::int64_t volume = 0;  // elements of the source box
     std::vector<std::int64_t> send_idx, recv_idx;  // element positions in src / dst buffers
     std::vector<int> send_counts, send_displs, recv_counts, recv_displs;  // in doubles
     std::vector<double> send_buf, recv_buf;
     double mpi_seconds = 0.0;  // MPI_Alltoallv time of the current solve
+    bool identity = false;     // one rank, the same box and order on both sides: a copy
     void forward(const double* src, double* dst);   // src layout -> dst layout
     void backward(const double* dst, double* src);  // dst layout -> src layout
   };
@@ -82,11 +84,15 @@ class FftPoisson {
   int mx_ = 0;                 // Nx/2 + 1
   std::int64_t lines_x_ = 0;   // x-lines on this rank in the x-pencil
   std::int64_t lines_z_ = 0;   // z-lines in the z-pencil
-  int kx0_ = 0, nkx_ = 0;      // kx range of the z- and y-pencils
-  int kz0_ = 0, nkz_ = 0;      // kz range of the y-pencil
+  // The y-pencil as [outer][y][lane]: lanes (the axes stored before y) run contiguous, so
+  // the tridiagonal solves vectorise across them.
+  std::int64_t lanes_ = 0, outer_ = 0;
+  std::vector<double> lam_lane_;  // lambda_x + lambda_z per lane, [outer][lane]
+  std::int64_t singular_ = -1;    // position of the (0, 0) mode's first point, or -1
   MPI_Comm comm_x_ = MPI_COMM_NULL, comm_z_ = MPI_COMM_NULL, comm_xy_ = MPI_COMM_NULL;
   Transpose t1_, t2_, t3_;
   Buf b0_, b1_, b1c_, b2_, b3_;
+  double *p0_ = nullptr, *p1_ = nullptr, *p1c_ = nullptr, *p2_ = nullptr, *p3_ = nullptr;  // b*_ or shared
   void* plan_r2c_ = nullptr;
   void* plan_c2r_ = nullptr;
   void* plan_zf_ = nullptr;

@@ -82,6 +82,9 @@ class MethodSpec {
   // Throws ConfigError for a global grid the method cannot work on (before allocating).
   virtual void check_grid(const Int3& /*cells*/) const {}
   virtual ScalingDefaults scaling_defaults() const = 0;
+  // The rank grid pattern the method runs fastest on (0: free), used where the user forces
+  // none and it fits the grid (rank_grid in kernels/cases/channel_case.hpp).
+  virtual Int3 preferred_rank_grid() const { return {0, 0, 0}; }
   // The settings a campaign sweeps; none: the method runs once per halo mode.
   virtual std::vector<CampaignVariant> campaign_variants() const { return {}; }
   // Resolves and checks the method's own settings from `given` (only its own flags), and
@@ -90,8 +93,8 @@ class MethodSpec {
   virtual void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const = 0;
   virtual std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const = 0;
   // Bytes per rank beyond the Fields the method makes (those the memory model records
-  // itself), for a local block of `local` cells.
-  virtual double extra_bytes(const Int3& /*local*/) const { return 0.0; }
+  // itself), for a local block of `local` cells on a `dims` rank grid.
+  virtual double extra_bytes(const Int3& /*local*/, const Int3& /*dims*/) const { return 0.0; }
   // One increment's work on a `global` grid under `choice` (Crank-Nicolson apart: the step
   // counts its choice.cn_sweeps itself).
   virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global) const = 0;
