@@ -6,6 +6,7 @@ packages=(
   g++ cmake make pkg-config          # toolchain
   libopenmpi-dev openmpi-bin         # MPI
   libfftw3-dev                       # FFTW3 (double, with libfftw3_omp)
+  libhypre-dev                       # hypre: the multigrid pressure method
   libcli11-dev                       # command lines
   libgtest-dev googletest            # tests
   libbenchmark-dev                   # micro-benchmarks

@@ -25,6 +25,16 @@ efsi_require(FFTW3_OMP_LIBRARY "FFTW3 OpenMP library (libfftw3_omp)" "libfftw3-d
 add_library(efsi_fftw INTERFACE)
 target_link_libraries(efsi_fftw INTERFACE ${FFTW3_OMP_LIBRARY} PkgConfig::FFTW3 OpenMP::OpenMP_CXX)
 
+# hypre (the multigrid pressure method, kernels/pressure/mg): Debian's build on Open MPI,
+# 32-bit indices, no OpenMP of its own.
+find_path(HYPRE_INCLUDE_DIR HYPRE_struct_ls.h PATH_SUFFIXES hypre)
+find_library(HYPRE_LIBRARY NAMES HYPRE)
+efsi_require(HYPRE_INCLUDE_DIR "hypre headers (HYPRE_struct_ls.h)" "libhypre-dev")
+efsi_require(HYPRE_LIBRARY "hypre library (libHYPRE)" "libhypre-dev")
+add_library(efsi_hypre INTERFACE)
+target_include_directories(efsi_hypre SYSTEM INTERFACE ${HYPRE_INCLUDE_DIR})
+target_link_libraries(efsi_hypre INTERFACE ${HYPRE_LIBRARY} MPI::MPI_C)
+
 find_package(CLI11 CONFIG)
 efsi_require(CLI11_FOUND "CLI11" "libcli11-dev")
 

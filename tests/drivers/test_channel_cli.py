@@ -66,6 +66,12 @@ class BadInput(ChannelTestCase):
         (["--cells", "17,16,16", "--particles", "0", "--steps", "3", "--method", "sor"], [r"sor", r"even", r"17"]),
         (SMALL + ["--method", "fft", "--ns", "5"], [r"--ns\b", r"\bsor\b"]),
         (SMALL + ["--calibrate"], [r"--calibrate", r"\bsor\b"]),
+        (SMALL + ["--method", "mg", "--mg-iters", "0"], [r"--mg-iters", r"\b0\b", r"between 1 and 1000"]),
+        (SMALL + ["--method", "mg", "--mg-iters", "2.5"], [r"--mg-iters", r"2\.5", r"whole number"]),
+        (SMALL + ["--method", "mg", "--eps", "2"], [r"--eps", r"\b2\b", r"\(0, 1\)"]),
+        (SMALL + ["--method", "mg", "--comm", "async"], [r"\bmg\b", r"--comm async"]),
+        (["--cells", "20,16,16", "--particles", "0", "--steps", "3", "--method", "mg"], [r"Nx=20", r"2\^k or 3 x 2\^k"]),
+        (SMALL + ["--method", "acm", "--mg-iters", "3"], [r"--mg-iters\b", r"\bmg\b"]),
         # Under the explicit viscous limit (2.1e-3) but over Crank-Nicolson's fixed point.
         (WITH_PARTICLES + ["--method", "sor", "--dt", "1e-3"], [r"Crank-Nicolson", r"0\.001\b|1e-03"], [5.273e-4]),
         (["--cells", "10,10", "--particles", "0", "--steps", "3"], [r"--cells", r"10,10"]),

@@ -14,6 +14,7 @@
 #include "centroids.hpp"
 #include "mpi_test_support.hpp"
 #include "smac_fft.hpp"
+#include "smac_mg.hpp"
 #include "smac_sor.hpp"
 #include "solver_fixtures.hpp"
 #include "sor_calibration.hpp"
@@ -34,6 +35,10 @@ Factory sor(int sweeps) {
 // change the answer beyond round-off.
 Factory fft() {
   return [](CommMode) { return std::make_unique<SmacFftPressure>(FftPoisson::Planning::estimate); };
+}
+
+Factory mg(double eps) {
+  return [eps](CommMode) { return std::make_unique<SmacMgPressure>(MgStop{eps, 1000}); };
 }
 
 std::vector<std::vector<double>> gathered_state(const Channel& c) {
@@ -158,7 +163,8 @@ TEST(SmacSolver, StartupPoiseuilleConvergesAtSecondOrder) {
     Factory make;
     int cn;
   };
-  for (const Case& m : {Case{"sor, Crank-Nicolson N_C = 20", sor(50), 20}, Case{"fft, explicit", fft(), 0}}) {
+  for (const Case& m : {Case{"sor, Crank-Nicolson N_C = 20", sor(50), 20}, Case{"fft, explicit", fft(), 0},
+                        Case{"mg to 1e-8, Crank-Nicolson N_C = 20", mg(1e-8), 20}}) {
     double prev = 0;
     for (int ny : {8, 16, 32}) {
       SolverConfig cfg;

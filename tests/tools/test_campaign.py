@@ -228,7 +228,7 @@ class Errors(unittest.TestCase):
         (["slurm", "--out", "{out}", "--ranks", "3:8"], "3:8"),
         (["slurm", "--out", "{out}", "--ranks", "two"], "two"),
         (["slurm", "--out", "{out}", "--configs", "sor-sync"], "sor-sync"),
-        (["slurm", "--out", "{out}", "--configs", "acm-sync-1e-3"], "only sor"),
+        (["slurm", "--out", "{out}", "--configs", "acm-sync-1e-3"], "acm takes no variant"),
         (["slurm", "--out", "{out}", "--configs", "mg-sync"], "mg-sync"),
         (["slurm", "--out", "{out}", "--time", "2h"], "2h"),
         (["slurm", "--out", "{out}", "--cpus-per-task", "0"], "'0'"),

@@ -38,8 +38,12 @@ std::vector<RegisteredOption> registered_options() {
     for (const MethodOption& o : m->options()) {
       auto it = out.begin();
       while (it != out.end() && it->option.flag != o.flag) ++it;
-      if (it == out.end()) out.push_back({o, {m->name()}});
-      else it->methods.push_back(m->name());
+      if (it == out.end()) {
+        out.push_back({o, {m->name()}});
+      } else {  // a flag two methods share: each one's help, in registry order
+        it->methods.push_back(m->name());
+        if (it->option.help.find(o.help) == std::string::npos) it->option.help += "; " + o.help;
+      }
     }
   return out;
 }

@@ -34,8 +34,8 @@ class SorSpec final : public MethodSpec {
   std::string name() const override { return "sor"; }
   std::string summary() const override { return "SMAC with N_S four-colour SOR sweeps per step"; }
   std::vector<MethodOption> options() const override {
-    return {{"--eps", "SOR residual ratio: picks the calibrated N_S (1e-3 or 1e-4; default 1e-3), or the target of "
-                      "--calibrate", false},
+    return {{"--eps", "SOR: the residual ratio that picks the calibrated N_S (1e-3 or 1e-4; default 1e-3), or the "
+                      "target of --calibrate", false},
             {"--ns", "SOR sweeps per step N_S (overrides --eps)", true}};
   }
   int default_cn_sweeps() const override { return paper::kCnSweeps; }
