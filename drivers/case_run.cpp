@@ -178,6 +178,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const int progress = req.progress > 0 ? req.progress : (total >= 200 ? int(total / 20) : 0);
 
   double elapsed = 0.0;
+  double iterations = 0.0;  // of the pressure solves, summed over the measured steps
   std::vector<FlowDiagnostics> tail;  // the last three steps, for the energy-budget check
   for (long s = 1; s <= measured; ++s) {
     const long done = s + 1;  // the warm-up step came first
@@ -190,6 +191,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     // step, so that every region the timers count lies within the measured time.
     if (want_diag) solver.complete_exchange();
     elapsed += MPI_Wtime() - t0;
+    iterations += solver.pressure().report().sweeps;
     std::optional<FlowDiagnostics> d;
     if (want_series) d = record();
     if (s + 3 > measured) tail.push_back(d ? *d : solver.diagnostics());
@@ -206,6 +208,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const TimerReport rep = summarize(solver.timers(), elapsed, dec.comm());
   if (is_root()) {
     std::fputs(timing_report_text(rep, measured, double(product(c.domain.cells))).c_str(), stdout);
+    const PressureReport& pr = solver.pressure().report();
+    if (iterations > 0) std::printf("  pressure solve: %.4g iterations per step (mean)\n", iterations / double(measured));
+    if (pr.setup_seconds > 0) std::printf("  pressure set-up: %.4g s, before the measured steps\n", pr.setup_seconds);
     std::printf("%s\n", v.line().c_str());
   }
 
@@ -238,6 +243,8 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       r.valid = v.valid;
       r.layout = layout;
       r.integrator = c.solver.integrator;
+      r.pressure_iterations = iterations / double(measured);
+      r.pressure_setup_s = solver.pressure().report().setup_seconds;
       append_csv(req.csv, r);
     }
   }

@@ -96,7 +96,9 @@ const std::vector<std::string>& csv_columns() {
                                                 "omp_places",
                                                 "omp_proc_bind",
                                                 "cores",
-                                                "integrator"};
+                                                "integrator",
+                                                "pressure_iterations",
+                                                "pressure_setup_s"};
   return cols;
 }
 
@@ -116,7 +118,8 @@ std::string csv_row(const RunRecord& r) {
     << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
     << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
-    << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << '\n';
+    << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
+    << num(r.pressure_setup_s) << '\n';
   return o.str();
 }
 

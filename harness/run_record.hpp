@@ -20,6 +20,8 @@ struct RunRecord {
   double dt = 0;
   std::string ns_per_step, nc_per_step;  // empty where they do not apply
   std::string integrator = "euler";
+  double pressure_iterations = 0;   // mean iterations per solve (SOR sweeps, V-cycles); 0: none (empty cell)
+  double pressure_setup_s = 0;      // the method's set-up, outside the measured steps
   TimerReport timing;
   double div_rms = 0;
   bool valid = false;
@@ -27,7 +29,8 @@ struct RunRecord {
 };
 
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
-// omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator.
+// omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator, pressure_iterations,
+// pressure_setup_s.
 const std::vector<std::string>& csv_columns();
 
 // Fills host, MPI library, compiler, git revision and UTC timestamp, and formats the row.

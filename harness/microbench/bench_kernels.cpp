@@ -42,6 +42,8 @@
 #include "halo_exchange.hpp"
 #include "kernel_costs.hpp"
 #include "kernel_timing.hpp"
+#include "method_registry.hpp"
+#include "mg_poisson.hpp"
 #include "mpi_benchmark.hpp"
 #include "sor_poisson.hpp"
 #include "sor_work.hpp"
@@ -205,6 +207,19 @@ void BM_FftSolve(benchmark::State& state, int n) {
                      [&] { fft.solve(k.work.div, k.work.dp, factor); });
 }
 
+// One multigrid solve to 1e-3 (MgPoisson, hypre's PFMG) from x = 0: hypre's own work is not
+// counted from its code, so the cost is the method's increment_work (the rhs in, dp out).
+void BM_MgSolve(benchmark::State& state, int n) {
+  KernelSetup& k = kernel_setup(n);
+  MgPoisson mg(*k.ch.dec, k.ch.c.domain, &k.timers);
+  const double factor = 1.0 / k.dt();
+  const MgStop stop{1e-3, 1000};
+  mg.solve(k.work.div, k.work.dp, factor, stop);  // warm-up
+  const MethodChoice mg_choice = configure_method("mg", {}, std::nullopt);
+  const IncrementWork w = mg_choice.spec->increment_work(mg_choice, k.ch.dec->global());
+  bench::time_kernel(state, k.cost(w.kernels), 1, [&] { mg.solve(k.work.div, k.work.dp, factor, stop); });
+}
+
 // halo_bytes_per_cell: 4 x MPI bytes + 2 x local bytes per exchange; no flops.
 void BM_HaloExchange(benchmark::State& state, int n, CommMode mode) {
   KernelSetup& k = kernel_setup(n);
@@ -284,6 +299,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
     reg("BM_SorSweep/sync" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, CommMode::sync); });
     reg("BM_SorSweep/async" + sz, [n](benchmark::State& s) { BM_SorSweep(s, n, CommMode::async); });
     reg("BM_FftSolve" + sz, [n](benchmark::State& s) { BM_FftSolve(s, n); });
+    reg("BM_MgSolve" + sz, [n](benchmark::State& s) { BM_MgSolve(s, n); });
     reg("BM_HaloExchange/sync" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::sync); });
     reg("BM_HaloExchange/async" + sz, [n](benchmark::State& s) { BM_HaloExchange(s, n, CommMode::async); });
     for (const StepCase& m : bench::step_cases())

@@ -1,9 +1,11 @@
-// The two pressure Poisson solvers of the SMAC methods on n^3 cells per rank, ranks side by
+// The pressure Poisson solvers of the SMAC methods on n^3 cells per rank, ranks side by
 // side in x (global cells {n P, n, n}, box 3.6 per 64 cells along every axis, so the spacing
 // is the paper's 3.6/64 at every n), rhs a fixed pseudo-random field with zero global mean:
 //
 //   BM_FftSolve/n        one exact FFT solve (FftPoisson, FFTW_MEASURE plans), n = 64, 128
 //   BM_SorSweep/mode/... one four-colour SOR sweep (SorPoisson), n = 64, sync and async
+//   BM_MgSolve/n/eps     one multigrid solve (MgPoisson, hypre's PFMG) to a relative residual
+//                        of 1e-eps, n = 64, 128, eps = 3, 4
 //
 //   OMP_NUM_THREADS=1 build/bin/bench_poisson --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_poisson --benchmark_repetitions=5 ...
@@ -31,6 +33,11 @@
 //   mpi_bytes             bytes this rank sends through MPI_Alltoallv per solve
 //   global_cells, ranks   the set-up, for reference
 //
+// BM_MgSolve: each iteration times one solve(rhs, x, factor, {1e-eps}) from x = 0.
+// Counters (rank 0; per solve): cycles (V-cycles), residual (the relative residual reached),
+// mg_solve_ms and mg_mpi_ms (the RegionTimers: work, and the time inside MPI by PMPI
+// interposition), setup_ms (hypre's grid, matrix and PFMG set-up, once), global_cells, ranks.
+//
 // BM_SorSweep: each iteration runs 10 sweeps, either as 10 calls of sweeps(rhs, 1)
 // (sweeps_per_call:1) or as one call of sweeps(rhs, 10) (sweeps_per_call:10, the way the SOR
 // pressure method calls it with N_S sweeps); the manual time is the iteration's time / 10.
@@ -43,6 +50,7 @@
 #include <fftw3.h>
 #include <mpi.h>
 
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <vector>
@@ -52,6 +60,7 @@
 #include "fft_poisson.hpp"
 #include "field.hpp"
 #include "fsi_state.hpp"
+#include "mg_poisson.hpp"
 #include "mpi_benchmark.hpp"
 #include "region_timers.hpp"
 #include "runtime.hpp"
@@ -218,6 +227,34 @@ void BM_SorSweep(benchmark::State& state, CommMode mode) {
   state.counters["ranks"] = static_cast<double>(pb.dec->size());
 }
 
+void BM_MgSolve(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const MgStop stop{std::pow(10.0, -static_cast<double>(state.range(1))), 1000};
+  Problem pb(n);
+  RegionTimers timers;
+  MgPoisson mg(*pb.dec, pb.domain, &timers);
+  const double factor = 1.0 / 6.25e-5;
+  MgResult r = mg.solve(*pb.rhs, *pb.x, factor, stop);  // warm-up, outside the timers
+  timers.reset();
+  for (auto _ : state) {
+    const double t = bench::max_over_ranks(MPI_COMM_WORLD, [&] { r = mg.solve(*pb.rhs, *pb.x, factor, stop); });
+    state.SetIterationTime(t);
+  }
+  const double per_ms = 1e3 / static_cast<double>(state.iterations());
+  state.counters["cycles"] = r.cycles;
+  state.counters["residual"] = r.residual;
+  state.counters["mg_solve_ms"] = timers.get(kMgSolveRegion) * per_ms;
+  state.counters["mg_mpi_ms"] = timers.get(kMgMpiRegion) * per_ms;
+  state.counters["setup_ms"] = mg.setup_seconds() * 1e3;
+  state.counters["global_cells"] = static_cast<double>(product(pb.domain.cells));
+  state.counters["ranks"] = static_cast<double>(pb.dec->size());
+}
+
+BENCHMARK(BM_MgSolve)
+    ->ArgNames({"n", "eps"})
+    ->ArgsProduct({{64, 128}, {3, 4}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FftSolve)->ArgName("n")->Arg(64)->Arg(128)->UseManualTime()->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_SorSweep, sync, CommMode::sync)
     ->ArgName("sweeps_per_call")

@@ -9,7 +9,8 @@ namespace efsi {
 // What the pressure correction of the last step chose (ACM: beta, gamma).
 struct PressureReport {
   double beta = 0, gamma = 0;
-  int sweeps = 0;          // SOR sweeps of the last step
+  int sweeps = 0;          // iterations of the last solve: SOR sweeps, multigrid V-cycles
+  double setup_seconds = 0;  // the method's one-time set-up in attach (hypre's, FFTW's plans)
   double residual = 0;     // relative residual of the last solve (SMAC)
 };
 

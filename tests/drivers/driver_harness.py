@@ -40,7 +40,8 @@ FLOAT_COLUMNS = ("dt", "elapsed_s", "compute_s", "halo_s", "reduce_s", "comm_s",
 OPTIONAL_NUMBER_COLUMNS = ("eps", "ns_per_step", "nc_per_step")
 TEXT_COLUMNS = ("host", "mpi", "compiler", "git_sha")
 # The suite's columns after section 8's: the hybrid layout (harness/hybrid_layout.hpp).
-SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores", "integrator"]
+SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores", "integrator",
+                 "pressure_iterations", "pressure_setup_s"]
 
 class Result:
     def __init__(self, rc, out, err, timed_out, seconds):
@@ -271,6 +272,14 @@ class DriverTestCase(unittest.TestCase):
         self.assertAlmostEqual(v["mlups"], expected_mlups, delta=1e-6 * expected_mlups)
         self.assertLess(v["div_rms"], div_rms_max, "a few steps from rest keep the velocity divergence-free")
         self.assertEqual(r["integrator"], integrator)
+        # The iterative methods' mean iterations per solve: N_S for SOR, V-cycles for mg.
+        if method == "sor" and r["ns_per_step"]:
+            self.assertAlmostEqual(float(r["pressure_iterations"]), float(r["ns_per_step"]))
+        elif method == "mg":
+            self.assertGreaterEqual(float(r["pressure_iterations"]), 1.0)
+        elif method in ("acm", "fft"):
+            self.assertEqual(r["pressure_iterations"], "")
+        self.assertGreaterEqual(float(r["pressure_setup_s"]), 0.0)
         # The hybrid layout: the environment the ranks saw, one core list per rank.
         self.assertEqual(r["omp_num_threads"], str(threads))
         self.assertEqual(len(r["cores"].split("/")), ranks, "one core list per rank: %r" % r["cores"])

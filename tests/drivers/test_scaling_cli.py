@@ -35,6 +35,7 @@ class WeakScaling(DriverTestCase):
             (1, ["--method", "sor", "--ns", "30", "--nc", "3", "--steps", "2"], "sor", "sync", 2, 6.25e-5),
             (2, ["--method", "sor", "--comm", "async", "--steps", "2", "--nc", "2"], "sor", "async", 2, 6.25e-5),
             (2, ["--method", "fft", "--steps", "2"], "fft", "sync", 2, 6.25e-5),
+            (2, ["--method", "mg", "--eps", "1e-4", "--nc", "2", "--steps", "2"], "mg", "sync", 2, 6.25e-5),
         ]
         for n, (ranks, args, method, comm, steps, dt) in enumerate(runs, start=1):
             with self.subTest(ranks=ranks, args=" ".join(args)):
@@ -51,6 +52,9 @@ class WeakScaling(DriverTestCase):
                 if method == "sor":
                     self.assertEqual(r["eps"], "" if "--ns" in args else "0.001")
                     self.assertEqual(r["ns_per_step"], "30" if "--ns" in args else "213")
+                if method == "mg":
+                    self.assertEqual(r["eps"], "0.0001")
+                    self.assertGreater(float(r["pressure_setup_s"]), 0.0)
 
     def test_paper_defaults_are_announced(self):
         res = self.run_ok(["--steps", "1", "--local", "16", "--particles-per-rank", "0"], ranks=2)

@@ -90,4 +90,6 @@ TEST(MethodRegistry, MethodRegionsAreNamedAndFlagged) {
   EXPECT_TRUE(compute.count("sor_sweeps"));
   EXPECT_TRUE(compute.count("fft_solve"));
   EXPECT_TRUE(comm.count("transpose_mpi"));
+  EXPECT_TRUE(compute.count("mg_solve"));
+  EXPECT_TRUE(comm.count("mg_mpi"));
 }

@@ -17,7 +17,10 @@
 
 namespace efsi {
 
+// The solve's own work, and the time inside MPI during it (hypre's exchanges and
+// reductions, by PMPI interposition: mpi_interpose.hpp), which counts as communication.
 inline const Region kMgSolveRegion = define_region("mg_solve", false);
+inline const Region kMgMpiRegion = define_region("mg_mpi", true);
 
 // hypre's PFMG on a periodic axis: N = 2^k or 3 * 2^k (k >= 1); other sizes stall or fail
 // to coarsen.  Throws ConfigError naming the axis, the size and the rule.

@@ -5,6 +5,7 @@ namespace efsi {
 void SmacMgPressure::attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work,
                             RegionTimers& timers) {
   mg_ = std::make_unique<MgPoisson>(decomp, domain, &timers);
+  report_.setup_seconds = mg_->setup_seconds();
   // grad dp on the owned faces reads the low face ghosts.
   dp_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&work.dp}, Reach::faces, &timers);
 }

@@ -1,8 +1,8 @@
 // The multigrid Poisson solve (docs/numerics.md, "Multigrid solver"): to a relative residual
 // of 1e-10 it gives the exact FFT solver's dp within 1e-8 of max |dp| on every decomposition
 // of the started ranks, on a grid of three different spacings; the tolerance and the fixed
-// cycle count stop it as asked; the periodic sizes PFMG cannot coarsen are refused with
-// the size and the rule.
+// cycle count stop it as asked; the time inside hypre's MPI calls counts as communication;
+// the periodic sizes PFMG cannot coarsen are refused with the size and the rule.
 #include <gtest/gtest.h>
 #include <mpi.h>
 
@@ -18,6 +18,7 @@
 #include "field.hpp"
 #include "mg_poisson.hpp"
 #include "mpi_test_support.hpp"
+#include "region_timers.hpp"
 
 using namespace efsi;
 using namespace efsi::testing;
@@ -102,6 +103,28 @@ TEST(MgPoisson, StopsAtTheToleranceOrAfterTheCycles) {
   double total = 0;
   MPI_Allreduce(&sum, &total, 1, MPI_DOUBLE, MPI_SUM, dec.comm());
   EXPECT_LT(std::fabs(total) / double(product(dom.cells)), 1e-12);
+}
+
+// hypre's own exchanges and reductions reach the timers as communication (PMPI
+// interposition): on more than one rank the solve spends time inside MPI, and the two
+// regions together are the solve's time.
+TEST(MgPoisson, TimeInsideMpiCountsAsCommunication) {
+  const Domain dom{{64, 32, 32}, {3.6, 1.8, 1.8}};
+  CartDecomposition dec(MPI_COMM_WORLD, dom.cells, 1, {0, 0, 0});
+  Field rhs(dec, {"rhs", Stagger::cell, 1}), x(dec, {"x", Stagger::cell, 1});
+  fill_rhs(rhs, dom);
+  RegionTimers timers;
+  MgPoisson mg(dec, dom, &timers);
+  const double t0 = MPI_Wtime();
+  mg.solve(rhs, x, 1.0, MgStop{1e-6, 1000});
+  const double wall = MPI_Wtime() - t0;
+  EXPECT_TRUE(is_communication(kMgMpiRegion));
+  EXPECT_FALSE(is_communication(kMgSolveRegion));
+  EXPECT_GT(timers.get(kMgSolveRegion), 0.0);
+  if (world_size() > 1) {
+    EXPECT_GT(timers.get(kMgMpiRegion), 0.0);
+  }
+  EXPECT_LE(timers.get(kMgSolveRegion) + timers.get(kMgMpiRegion), wall * (1 + 1e-9));
 }
 
 TEST(MgPoisson, RefusesPeriodicSizesItCannotCoarsen) {

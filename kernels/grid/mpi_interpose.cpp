@@ -2,26 +2,29 @@
 
 #include <mpi.h>
 
-#include "callgrind_region.hpp"
-
-namespace efsi::bench {
+namespace efsi {
 namespace {
 
 MpiCensus g_census;
-bool g_uncollected = false;
+double g_seconds = 0.0;
+void (*g_hook)() = nullptr;
 
-// Collection off for the duration of one wrapped call (collective or not, MPI's time is
-// MPI's, not the kernel's).
-struct OutsideCounts {
-  bool active = g_uncollected;
-  OutsideCounts() {
-    if (active) callgrind_toggle_collect();
+// One wrapped call: the hook around it, its time added to g_seconds.
+struct InsideMpi {
+  explicit InsideMpi(bool timed = true) : timed_(timed) {
+    if (g_hook) g_hook();
+    if (timed_) t0_ = PMPI_Wtime();
   }
-  ~OutsideCounts() {
-    if (active) callgrind_toggle_collect();
+  ~InsideMpi() {
+    if (timed_) g_seconds += PMPI_Wtime() - t0_;
+    if (g_hook) g_hook();
   }
-  OutsideCounts(const OutsideCounts&) = delete;
-  OutsideCounts& operator=(const OutsideCounts&) = delete;
+  InsideMpi(const InsideMpi&) = delete;
+  InsideMpi& operator=(const InsideMpi&) = delete;
+
+ private:
+  bool timed_;
+  double t0_ = 0.0;
 };
 
 long long type_bytes(MPI_Datatype t) {
@@ -30,15 +33,11 @@ long long type_bytes(MPI_Datatype t) {
   return size;
 }
 
-bool to_other_rank(int dest, MPI_Comm comm) {
-  if (dest == MPI_PROC_NULL) return false;
+void count_send(int count, MPI_Datatype t, int dest, MPI_Comm comm) {
+  if (dest == MPI_PROC_NULL) return;
   int me = 0;
   PMPI_Comm_rank(comm, &me);
-  return dest != me;
-}
-
-void count_send(int count, MPI_Datatype t, int dest, MPI_Comm comm) {
-  if (!to_other_rank(dest, comm)) return;
+  if (dest == me) return;
   ++g_census.messages;
   g_census.bytes += count * type_bytes(t);
 }
@@ -46,6 +45,16 @@ void count_send(int count, MPI_Datatype t, int dest, MPI_Comm comm) {
 void count_collective(long long bytes) {
   ++g_census.collectives;
   g_census.collective_bytes += bytes;
+}
+
+long long to_others(const int counts[], MPI_Comm comm) {
+  int size = 1, me = 0;
+  PMPI_Comm_size(comm, &size);
+  PMPI_Comm_rank(comm, &me);
+  long long n = 0;
+  for (int r = 0; r < size; ++r)
+    if (r != me) n += counts[r];
+  return n;
 }
 
 }  // namespace
@@ -56,77 +65,97 @@ MpiCensus operator-(const MpiCensus& a, const MpiCensus& b) {
 }
 
 MpiCensus mpi_census() { return g_census; }
+double mpi_seconds() { return g_seconds; }
+void set_mpi_call_hook(void (*hook)()) { g_hook = hook; }
 
-void set_mpi_uncollected(bool on) { g_uncollected = on; }
+}  // namespace efsi
 
-}  // namespace efsi::bench
-
-using efsi::bench::OutsideCounts;
+using efsi::InsideMpi;
 
 extern "C" {
 
 int MPI_Isend(const void* buf, int count, MPI_Datatype type, int dest, int tag, MPI_Comm comm, MPI_Request* req) {
-  OutsideCounts o;
-  efsi::bench::count_send(count, type, dest, comm);
+  InsideMpi in;
+  efsi::count_send(count, type, dest, comm);
   return PMPI_Isend(buf, count, type, dest, tag, comm, req);
 }
 
+int MPI_Send(const void* buf, int count, MPI_Datatype type, int dest, int tag, MPI_Comm comm) {
+  InsideMpi in;
+  efsi::count_send(count, type, dest, comm);
+  return PMPI_Send(buf, count, type, dest, tag, comm);
+}
+
 int MPI_Irecv(void* buf, int count, MPI_Datatype type, int source, int tag, MPI_Comm comm, MPI_Request* req) {
-  OutsideCounts o;
+  InsideMpi in;
   return PMPI_Irecv(buf, count, type, source, tag, comm, req);
+}
+
+int MPI_Recv(void* buf, int count, MPI_Datatype type, int source, int tag, MPI_Comm comm, MPI_Status* status) {
+  InsideMpi in;
+  return PMPI_Recv(buf, count, type, source, tag, comm, status);
 }
 
 int MPI_Sendrecv(const void* sendbuf, int sendcount, MPI_Datatype sendtype, int dest, int sendtag, void* recvbuf,
                  int recvcount, MPI_Datatype recvtype, int source, int recvtag, MPI_Comm comm, MPI_Status* status) {
-  OutsideCounts o;
-  efsi::bench::count_send(sendcount, sendtype, dest, comm);
+  InsideMpi in;
+  efsi::count_send(sendcount, sendtype, dest, comm);
   return PMPI_Sendrecv(sendbuf, sendcount, sendtype, dest, sendtag, recvbuf, recvcount, recvtype, source, recvtag,
                        comm, status);
 }
 
+int MPI_Wait(MPI_Request* request, MPI_Status* status) {
+  InsideMpi in;
+  return PMPI_Wait(request, status);
+}
+
 int MPI_Waitall(int count, MPI_Request requests[], MPI_Status statuses[]) {
-  OutsideCounts o;
+  InsideMpi in;
   return PMPI_Waitall(count, requests, statuses);
 }
 
+int MPI_Waitany(int count, MPI_Request requests[], int* index, MPI_Status* status) {
+  InsideMpi in;
+  return PMPI_Waitany(count, requests, index, status);
+}
+
+int MPI_Test(MPI_Request* request, int* flag, MPI_Status* status) {
+  InsideMpi in;
+  return PMPI_Test(request, flag, status);
+}
+
 int MPI_Testall(int count, MPI_Request requests[], int* flag, MPI_Status statuses[]) {
-  OutsideCounts o;
+  InsideMpi in;
   return PMPI_Testall(count, requests, flag, statuses);
 }
 
 int MPI_Allreduce(const void* sendbuf, void* recvbuf, int count, MPI_Datatype type, MPI_Op op, MPI_Comm comm) {
-  OutsideCounts o;
-  efsi::bench::count_collective(count * efsi::bench::type_bytes(type));
+  InsideMpi in;
+  efsi::count_collective(count * efsi::type_bytes(type));
   return PMPI_Allreduce(sendbuf, recvbuf, count, type, op, comm);
 }
 
 int MPI_Alltoallv(const void* sendbuf, const int sendcounts[], const int sdispls[], MPI_Datatype sendtype,
                   void* recvbuf, const int recvcounts[], const int rdispls[], MPI_Datatype recvtype, MPI_Comm comm) {
-  OutsideCounts o;
-  int size = 1, me = 0;
-  PMPI_Comm_size(comm, &size);
-  PMPI_Comm_rank(comm, &me);
-  long long sent = 0;
-  for (int r = 0; r < size; ++r)
-    if (r != me) sent += sendcounts[r];
-  efsi::bench::count_collective(sent * efsi::bench::type_bytes(sendtype));
+  InsideMpi in;
+  efsi::count_collective(efsi::to_others(sendcounts, comm) * efsi::type_bytes(sendtype));
   return PMPI_Alltoallv(sendbuf, sendcounts, sdispls, sendtype, recvbuf, recvcounts, rdispls, recvtype, comm);
 }
 
 int MPI_Bcast(void* buf, int count, MPI_Datatype type, int root, MPI_Comm comm) {
-  OutsideCounts o;
-  efsi::bench::count_collective(count * efsi::bench::type_bytes(type));
+  InsideMpi in;
+  efsi::count_collective(count * efsi::type_bytes(type));
   return PMPI_Bcast(buf, count, type, root, comm);
 }
 
 int MPI_Barrier(MPI_Comm comm) {
-  OutsideCounts o;
-  efsi::bench::count_collective(0);
+  InsideMpi in;
+  efsi::count_collective(0);
   return PMPI_Barrier(comm);
 }
 
 double MPI_Wtime() {
-  OutsideCounts o;
+  InsideMpi in(false);
   return PMPI_Wtime();
 }
 
