@@ -44,7 +44,7 @@ int dry_run(const ChannelCase& c, int ranks, std::size_t particles) {
                 to_string(local).c_str(), double(product(local)));
     std::printf("  memory per rank: %.3f GiB (%d fields %.3f GiB", gib(double(m.total())), m.fields,
                 gib(double(m.field_bytes)));
-    if (m.solver_bytes > 0) std::printf(", FFT pencils and transposes %.3f GiB", gib(double(m.solver_bytes)));
+    if (m.solver_bytes > 0) std::printf(", %s %.3f GiB", c.method.spec->extra_bytes_hold().c_str(), gib(double(m.solver_bytes)));
     std::printf("); all ranks %.4g GiB\n", gib(double(m.total())) * ranks);
   }
   return 0;

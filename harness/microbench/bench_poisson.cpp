@@ -4,8 +4,10 @@
 //
 //   BM_FftSolve/n        one exact FFT solve (FftPoisson, FFTW_MEASURE plans), n = 64, 128
 //   BM_SorSweep/mode/... one four-colour SOR sweep (SorPoisson), n = 64, sync and async
-//   BM_MgSolve/n/eps     one multigrid solve (MgPoisson, hypre's PFMG) to a relative residual
-//                        of 1e-eps, n = 64, 128, eps = 3, 4
+//   BM_MgSolve/n/eps/solver  one multigrid solve (MgPoisson) to a relative residual of
+//                        1e-eps: solver 0 PFMG (the method's; n = 64, 128, eps = 3, 4),
+//                        1 SMG and 2 CG preconditioned by a PFMG V-cycle (n = 64), for the
+//                        choice of solver
 //
 //   OMP_NUM_THREADS=1 build/bin/bench_poisson --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_poisson --benchmark_repetitions=5 ...
@@ -230,9 +232,11 @@ void BM_SorSweep(benchmark::State& state, CommMode mode) {
 void BM_MgSolve(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   const MgStop stop{std::pow(10.0, -static_cast<double>(state.range(1))), 1000};
+  const MgSolver kind = static_cast<MgSolver>(state.range(2));
   Problem pb(n);
   RegionTimers timers;
-  MgPoisson mg(*pb.dec, pb.domain, &timers);
+  MgPoisson mg(*pb.dec, pb.domain, &timers, kind);
+  state.SetLabel(to_string(kind));
   const double factor = 1.0 / 6.25e-5;
   MgResult r = mg.solve(*pb.rhs, *pb.x, factor, stop);  // warm-up, outside the timers
   timers.reset();
@@ -251,8 +255,9 @@ void BM_MgSolve(benchmark::State& state) {
 }
 
 BENCHMARK(BM_MgSolve)
-    ->ArgNames({"n", "eps"})
-    ->ArgsProduct({{64, 128}, {3, 4}})
+    ->ArgNames({"n", "eps", "solver"})
+    ->ArgsProduct({{64, 128}, {3, 4}, {0}})
+    ->ArgsProduct({{64}, {3, 4}, {1, 2}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FftSolve)->ArgName("n")->Arg(64)->Arg(128)->UseManualTime()->Unit(benchmark::kMillisecond);

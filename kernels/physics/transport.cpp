@@ -1,9 +1,9 @@
 // The transport of phi and Bt (docs/numerics.md, "Spatial discretisation"): WENO5 upwind
-// advection and the upper-convected stretching of Bt.  Each output row is computed by one
-// vectorised loop per advection axis and per stretching term, partial sums kept in scratch
-// rows: one loop over all of them spills its registers, and GCC then leaves the WENO
-// derivative out of line and the loops scalar.  The sums are formed in the order of the
-// equations as written, so the split changes no bit.
+// advection and the upper-convected stretching of Bt.  Each line of output points is
+// computed by one vectorised loop per advection axis and per stretching term, partial sums
+// kept in scratch arrays (box_loops.hpp): one loop over all of them spills its registers,
+// and GCC then leaves the WENO derivative out of line and the loops scalar.  The sums are
+// formed in the order of the equations as written, so the split changes no bit.
 #include <type_traits>
 
 #include "box_loops.hpp"

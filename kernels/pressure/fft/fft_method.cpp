@@ -32,6 +32,7 @@ class FftSpec final : public MethodSpec {
     return std::make_unique<SmacFftPressure>(build.timed_planning ? FftPoisson::Planning::measure
                                                                   : FftPoisson::Planning::estimate);
   }
+  std::string extra_bytes_hold() const override { return "FFT pencils and transposes"; }
   double extra_bytes(const Int3& local, const Int3& dims) const override {
     return fft_words_per_cell(dims) * double(product(local)) * 8.0;
   }

@@ -33,6 +33,11 @@ struct MgStop {
   int max_cycles = 100;
 };
 
+// The hypre solver: PFMG alone (the method's), SMG alone, or conjugate gradients
+// preconditioned by one PFMG V-cycle.  The others serve the benchmarks' comparison.
+enum class MgSolver { pfmg, smg, pcg_pfmg };
+const char* to_string(MgSolver s);
+
 struct MgResult {
   int cycles = 0;
   double residual = 0;  // relative, as hypre computes it (0 when it did not)
@@ -41,7 +46,8 @@ struct MgResult {
 class MgPoisson {
  public:
   // Builds hypre's grid, matrix and solver (set-up, collective); its time goes to setup_seconds.
-  MgPoisson(const CartDecomposition& decomp, const Domain& domain, RegionTimers* timers = nullptr);
+  MgPoisson(const CartDecomposition& decomp, const Domain& domain, RegionTimers* timers = nullptr,
+            MgSolver kind = MgSolver::pfmg);
   ~MgPoisson();
   MgPoisson(const MgPoisson&) = delete;
   MgPoisson& operator=(const MgPoisson&) = delete;
@@ -55,6 +61,7 @@ class MgPoisson {
 
   const CartDecomposition& decomp_;
   RegionTimers* timers_;
+  MgSolver kind_;
   Int3 lo_{}, hi_{};  // this rank's box, inclusive, global indices
   std::int64_t count_ = 0;
   std::vector<double> values_;
@@ -63,7 +70,8 @@ class MgPoisson {
   void* matrix_ = nullptr;   // HYPRE_StructMatrix
   void* b_ = nullptr;        // HYPRE_StructVector
   void* x_ = nullptr;
-  void* solver_ = nullptr;   // HYPRE_StructSolver (PFMG)
+  void* solver_ = nullptr;   // HYPRE_StructSolver (kind_)
+  void* precond_ = nullptr;  // PFMG under PCG
   double setup_seconds_ = 0;
 };
 

@@ -95,6 +95,8 @@ class MethodSpec {
   // Bytes per rank beyond the Fields the method makes (those the memory model records
   // itself), for a local block of `local` cells on a `dims` rank grid.
   virtual double extra_bytes(const Int3& /*local*/, const Int3& /*dims*/) const { return 0.0; }
+  // What those bytes hold, for the dry run ("FFT pencils and transposes").
+  virtual std::string extra_bytes_hold() const { return name() + " solver"; }
   // One increment's work on a `global` grid under `choice` (Crank-Nicolson apart: the step
   // counts its choice.cn_sweeps itself).
   virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global) const = 0;
