@@ -70,13 +70,13 @@ void build_transpose(FftPoisson::Transpose& t, MPI_Comm comm, const Int3& my_coo
                      const std::function<Layout(const Int3&)>& dst) {
   t.comm = comm;
   t.elem = elem;
-  t.volume = src(my_coords).volume();
   int size = 1, rank = 0;
   MPI_Comm_size(comm, &size);
   MPI_Comm_rank(comm, &rank);
   std::vector<int> all(3 * size);
   MPI_Allgather(my_coords.data(), 3, MPI_INT, all.data(), 3, MPI_INT, comm);
   const Layout my_src = src(my_coords), my_dst = dst(my_coords);
+  t.volume = my_src.volume();
   t.send_counts.assign(size, 0);
   t.send_displs.assign(size, 0);
   t.recv_counts.assign(size, 0);

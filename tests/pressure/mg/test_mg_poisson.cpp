@@ -46,6 +46,21 @@ double max_over_ranks(double v, MPI_Comm comm) {
   return m;
 }
 
+// max |x - ref| and max |ref| over the owned cells of every rank.
+struct Difference {
+  double diff = 0, size = 0;
+};
+Difference difference(const Field& x, const Field& ref, const CartDecomposition& dec) {
+  Difference d;
+  for (int k = 0; k < dec.local()[Z]; ++k)
+    for (int j = 0; j < dec.local()[Y]; ++j)
+      for (int i = 0; i < dec.local()[X]; ++i) {
+        d.diff = std::max(d.diff, std::fabs(x(i, j, k) - ref(i, j, k)));
+        d.size = std::max(d.size, std::fabs(ref(i, j, k)));
+      }
+  return {max_over_ranks(d.diff, dec.comm()), max_over_ranks(d.size, dec.comm())};
+}
+
 }  // namespace
 
 TEST(MgPoisson, AgreesWithTheFftSolveOnEveryDecomposition) {
@@ -63,15 +78,7 @@ TEST(MgPoisson, AgreesWithTheFftSolveOnEveryDecomposition) {
     const MgResult r = mg.solve(rhs, mg_x, 2.5, MgStop{1e-10, 200});
     EXPECT_LE(r.residual, 1e-10);
     EXPECT_GT(r.cycles, 1);
-    double diff = 0, size = 0;
-    for (int k = 0; k < dec.local()[Z]; ++k)
-      for (int j = 0; j < dec.local()[Y]; ++j)
-        for (int i = 0; i < dec.local()[X]; ++i) {
-          diff = std::max(diff, std::fabs(mg_x(i, j, k) - fft_x(i, j, k)));
-          size = std::max(size, std::fabs(fft_x(i, j, k)));
-        }
-    diff = max_over_ranks(diff, dec.comm());
-    size = max_over_ranks(size, dec.comm());
+    const auto [diff, size] = difference(mg_x, fft_x, dec);
     if (world_rank() == 0)
       std::printf("  %s: %d V-cycles, residual %.2e, max |dp_mg - dp_fft| = %.2e of max |dp_fft|\n",
                   to_string(dims).c_str(), r.cycles, r.residual, diff / size);
@@ -92,14 +99,8 @@ TEST(MgPoisson, SmgAndPreconditionedCgAgreeWithTheFftSolve) {
     MgPoisson mg(dec, dom, nullptr, kind);
     const MgResult r = mg.solve(rhs, x, 1.0, MgStop{1e-8, 200});
     EXPECT_LE(r.residual, 1e-8);
-    double diff = 0, size = 0;
-    for (int k = 0; k < dec.local()[Z]; ++k)
-      for (int j = 0; j < dec.local()[Y]; ++j)
-        for (int i = 0; i < dec.local()[X]; ++i) {
-          diff = std::max(diff, std::fabs(x(i, j, k) - ref(i, j, k)));
-          size = std::max(size, std::fabs(ref(i, j, k)));
-        }
-    EXPECT_LT(max_over_ranks(diff, dec.comm()), 1e-6 * max_over_ranks(size, dec.comm()));
+    const auto [diff, size] = difference(x, ref, dec);
+    EXPECT_LT(diff, 1e-6 * size);
   }
 }
 
