@@ -16,7 +16,8 @@
 #include "case_run.hpp"
 #include "method_options.hpp"
 #include "runtime.hpp"
-#include "sor_calibration.hpp"
+#include "calibration.hpp"
+#include "method_registry.hpp"
 
 using namespace efsi;
 
@@ -35,8 +36,18 @@ struct Options {
   int max_sweeps = 20000;
 };
 
-// --calibrate: the paper's N_S count on a developed state (sor_calibration.hpp), one rank.
-int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle>& particles) {
+// "mg, sor": the methods --calibrate takes.
+std::string calibrated_methods() {
+  std::string out;
+  for (const MethodSpec* m : pressure_methods())
+    if (m->calibrated_count()) out += (out.empty() ? "" : ", ") + m->name();
+  return out;
+}
+
+// --calibrate: the method's iteration count on a developed state, as the paper counted
+// N_S (calibration.hpp), one rank.
+int run_calibration(const Options& o, const ChannelCase& c, const std::vector<Particle>& particles) {
+  const CalibratedCount what = *c.method.spec->calibrated_count();
   check_writable(o.series, "--series");
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
@@ -48,25 +59,25 @@ int calibrate(const Options& o, const ChannelCase& c, const std::vector<Particle
     for (const auto& s : paper::kCalibratedSorSweeps) eps.push_back(s.eps);
   std::printf("calibrate: %s cells, box %.4g x %.4g x %.4g, %zu particles, G=%g, dt=%g, N_C=%d\n"
               "  state: laminar Poiseuille flow with the particles at rest and unstrained, then %ld steps of the "
-              "FFT reference; rhs = D*/dt of the next step, SOR (omega 1.6) from dp = 0\n",
+              "FFT reference; rhs = D*/dt of the next step, %s\n",
               to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
-              particles.size(), c.solver.physics.G, c.solver.dt, c.solver.cn_sweeps, o.steps);
-  const SorCalibration cal = calibrate_sor(c, dec, particles, o.steps, eps, o.max_sweeps);
-  std::printf("  initial RMS residual %.6g; after %zu sweeps %.3g of it, max |dp_sor - dp_fft| = %.3g of max |dp_fft|\n",
-              cal.initial_residual, cal.history.size(), cal.history.empty() ? 1.0 : cal.history.back(),
-              cal.fft_difference);
+              particles.size(), c.solver.physics.G, c.solver.dt, c.solver.cn_sweeps, o.steps, what.procedure.c_str());
+  const Calibration cal = calibrate(c, dec, particles, o.steps, eps, o.max_sweeps);
+  std::printf("  initial RMS residual %.6g; after %zu %s %.3g of it, max |dp_%s - dp_fft| = %.3g of max |dp_fft|\n",
+              cal.initial_residual, cal.history.size(), what.unit.c_str(),
+              cal.history.empty() ? 1.0 : cal.history.back(), c.method.name().c_str(), cal.fft_difference);
   bool reached = true;
   for (std::size_t e = 0; e < eps.size(); ++e) {
-    if (cal.sweeps[e] < 0) {
+    if (cal.iterations[e] < 0) {
       std::printf("  eps %g: not reached in --max-sweeps %d\n", eps[e], o.max_sweeps);
       reached = false;
     } else {
-      std::printf("  eps %g: N_S = %d\n", eps[e], cal.sweeps[e]);
+      std::printf("  eps %g: %s %d\n", eps[e], what.flag.c_str(), cal.iterations[e]);
     }
   }
   if (!o.series.empty()) {
     std::ostringstream t;
-    t << "sweep,relative_residual\n";
+    t << "iteration,relative_residual\n";
     for (std::size_t m = 0; m < cal.history.size(); ++m) t << m + 1 << ',' << cal.history[m] << '\n';
     write_text_file(o.series, t.str());
   }
@@ -84,9 +95,10 @@ int run(const Options& o) {
   } else {
     c.domain.length = parse_double3(o.length, "--length");
   }
-  if (o.calibrate && o.m.method != "sor")
-    throw ConfigError("--calibrate applies to --method sor only");
   apply_method_options(o.m, c, paper::kAcmDt, o.calibrate);
+  if (o.calibrate && !c.method.spec->calibrated_count())
+    throw ConfigError("--calibrate applies to a method with an iteration count per step (" + calibrated_methods() +
+                      "), not --method " + c.method.name());
   if (o.max_sweeps < 1) throw ConfigError("--max-sweeps " + std::to_string(o.max_sweeps) + " must be at least 1");
   if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
   if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
@@ -125,7 +137,7 @@ int run(const Options& o) {
   if (o.calibrate) {
     if (ranks != 1) throw ConfigError("--calibrate runs on one rank (the paper's procedure); started on " +
                                       std::to_string(ranks));
-    return calibrate(o, c, particles);
+    return run_calibration(o, c, particles);
   }
   RunRequest req;
   req.program = "channel";
@@ -148,9 +160,10 @@ int main(int argc, char** argv) {
   app.add_option("--length", o.length, "L or LX,LY,LZ box lengths (default: 3.6/64 per cell)");
   add_method_options(app, o.m, "1.25e-5");
   app.add_flag("--calibrate", o.calibrate,
-               "sor, one rank: count the sweeps to reach --eps (default: 1e-3 and 1e-4) on a developed state "
-               "(--steps FFT steps from laminar flow) and exit; --series writes the residual history");
-  app.add_option("--max-sweeps", o.max_sweeps, "--calibrate gives up after this many sweeps")->capture_default_str();
+               calibrated_methods() + ", one rank: count the iterations (sweeps, V-cycles) to reach --eps (default: "
+               "1e-3 and 1e-4) on a developed state (--steps FFT steps from laminar flow) and exit; --series "
+               "writes the residual history");
+  app.add_option("--max-sweeps", o.max_sweeps, "--calibrate gives up after this many iterations")->capture_default_str();
   auto* steps = app.add_option("--steps", o.steps, "measured steps")->capture_default_str();
   app.add_option("--t-end", o.t_end, "run to this time instead of --steps")->excludes(steps);
   app.add_option("--G", o.G, "shear modulus")->capture_default_str();

@@ -8,6 +8,8 @@
 //                        1e-eps: solver 0 PFMG (the method's; n = 64, 128, eps = 3, 4),
 //                        1 SMG and 2 CG preconditioned by a PFMG V-cycle (n = 64), for the
 //                        choice of solver
+//   BM_SorSolve/n/eps    SOR sweeps from x = 0 to the same relative residual 1e-eps (n = 64,
+//                        128, eps = 3, 4): the count the SOR method would need on this rhs
 //
 //   OMP_NUM_THREADS=1 build/bin/bench_poisson --benchmark_repetitions=5 --benchmark_report_aggregates_only=true
 //   OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/bench_poisson --benchmark_repetitions=5 ...
@@ -39,6 +41,11 @@
 // Counters (rank 0; per solve): cycles (V-cycles), residual (the relative residual reached),
 // mg_solve_ms and mg_mpi_ms (the RegionTimers: work, and the time inside MPI by PMPI
 // interposition), setup_ms (hypre's grid, matrix and PFMG set-up, once), global_cells, ranks.
+//
+// BM_SorSolve: the warm-up counts the sweeps N that bring the RMS residual to 1e-eps of its
+// initial value (one sweep at a time); each iteration then times x = 0 and one call of
+// sweeps(rhs, N), as the SOR method runs its N_S per step.  Counters (rank 0): sweeps,
+// residual (reached), ms_per_sweep, global_cells, ranks.
 //
 // BM_SorSweep: each iteration runs 10 sweeps, either as 10 calls of sweeps(rhs, 1)
 // (sweeps_per_call:1) or as one call of sweeps(rhs, 10) (sweeps_per_call:10, the way the SOR
@@ -254,10 +261,50 @@ void BM_MgSolve(benchmark::State& state) {
   state.counters["ranks"] = static_cast<double>(pb.dec->size());
 }
 
+void BM_SorSolve(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  const double eps = std::pow(10.0, -static_cast<double>(state.range(1)));
+  Problem pb(n);
+  SorPoisson sor(*pb.dec, pb.domain, *pb.x, CommMode::sync);
+  const double factor = 1.0 / 6.25e-5;
+  const double r0 = sor.residual_rms(*pb.rhs, factor);
+  double r = 1.0;
+  int sweeps = 0;
+  constexpr int kMaxSweeps = 20000;
+  while (r > eps && sweeps < kMaxSweeps) {
+    sor.sweeps(*pb.rhs, 1, factor);
+    r = sor.residual_rms(*pb.rhs, factor) / r0;
+    ++sweeps;
+  }
+  if (r > eps) {
+    state.SkipWithError("SOR did not reach the tolerance in 20000 sweeps");
+    return;
+  }
+  double total = 0.0;
+  for (auto _ : state) {
+    const double t = bench::max_over_ranks(MPI_COMM_WORLD, [&] {
+      pb.x->fill(0.0);
+      sor.sweeps(*pb.rhs, sweeps, factor);
+    });
+    state.SetIterationTime(t);
+    total += t;
+  }
+  state.counters["sweeps"] = sweeps;
+  state.counters["residual"] = r;
+  state.counters["ms_per_sweep"] = 1e3 * total / (static_cast<double>(state.iterations()) * sweeps);
+  state.counters["global_cells"] = static_cast<double>(product(pb.domain.cells));
+  state.counters["ranks"] = static_cast<double>(pb.dec->size());
+}
+
 BENCHMARK(BM_MgSolve)
     ->ArgNames({"n", "eps", "solver"})
     ->ArgsProduct({{64, 128}, {3, 4}, {0}})
     ->ArgsProduct({{64}, {3, 4}, {1, 2}})
+    ->UseManualTime()
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_SorSolve)
+    ->ArgNames({"n", "eps"})
+    ->ArgsProduct({{64, 128}, {3, 4}})
     ->UseManualTime()
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FftSolve)->ArgName("n")->Arg(64)->Arg(128)->UseManualTime()->Unit(benchmark::kMillisecond);

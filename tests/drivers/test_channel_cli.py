@@ -235,6 +235,10 @@ class CsvRecord(ChannelTestCase):
             (1, "sor", "sync", ["--ns", "40", "--nc", "4"], "", "40", "4"),
             (2, "sor", "async", ["--ns", "40"], "", "40", "20"),
             (2, "sor", "sync", ["--eps", "1e-4", "--nc", "2"], "0.0001", None, "2"),
+            # multigrid to a tolerance has no fixed count; a calibrated count keeps its eps.
+            (1, "mg", "sync", ["--eps", "1e-4"], "0.0001", "", "20"),
+            (2, "mg", "sync", ["--eps", "1e-3", "--mg-iters", "5"], "0.001", "5", "20"),
+            (1, "mg", "sync", ["--mg-iters", "3", "--nc", "0"], "", "3", ""),
         ]
         for n, (ranks, method, comm, extra, eps, ns, nc) in enumerate(runs, start=1):
             args = WITH_PARTICLES + ["--method", method, "--comm", comm, "--dt", "6.25e-5", "--csv", "smac.csv"]
@@ -264,24 +268,28 @@ class CsvRecord(ChannelTestCase):
                 self.check_row(rows[0], rows[n], ranks, 1, (32, 32, 32), 3, 2, comm, method=method,
                                integrator="rk3")
 
-    def test_calibrate_prints_the_sweep_counts(self):
-        res = self.run_ok(["--cells", "32", "--length", "3.6", "--steps", "5", "--method", "sor", "--calibrate",
-                           "--dt", "6.25e-5", "--series", "residuals.csv"])
-        counts = dict((float(e), int(n)) for e, n in re.findall(r"eps (\S+): N_S = (\d+)", res.out))
-        self.assertEqual(sorted(counts), [1e-4, 1e-3], res.out)
-        self.assertGreater(counts[1e-3], 10, "SOR needs many sweeps to gain three digits at 32^3")
-        self.assertGreater(counts[1e-4], counts[1e-3])
-        _, rows = read_table(self.path("residuals.csv"))
-        self.assertEqual(rows[0], ["sweep", "relative_residual"])
-        history = [float(r[1]) for r in rows[1:]]
-        self.assertEqual(len(history), counts[1e-4])
-        self.assertLessEqual(history[counts[1e-3] - 1], 1e-3)
-        self.assertGreater(history[counts[1e-3] - 2], 1e-3)
-        self.assertLessEqual(history[-1], 1e-4)
-        self.assertGreater(history[-2], 1e-4)
-        m = re.search(r"max \|dp_sor - dp_fft\| = (\S+) of", res.out)
-        self.assertIsNotNone(m, res.out)
-        self.assertLess(float(m.group(1)), 1e-2, "after eps 1e-4, SOR is close to the exact solve")
+    def test_calibrate_prints_the_counts(self):
+        # SOR needs many sweeps to gain three digits at 32^3, multigrid a few V-cycles.
+        for method, flag, low, high in [("sor", "--ns", 10, 10000), ("mg", "--mg-iters", 1, 8)]:
+            with self.subTest(method=method):
+                res = self.run_ok(["--cells", "32", "--length", "3.6", "--steps", "5", "--method", method,
+                                   "--calibrate", "--dt", "6.25e-5", "--series", "residuals.csv"])
+                counts = dict((float(e), int(n)) for e, n in re.findall(r"eps (\S+): %s (\d+)" % flag, res.out))
+                self.assertEqual(sorted(counts), [1e-4, 1e-3], res.out)
+                self.assertGreaterEqual(counts[1e-3], low)
+                self.assertLessEqual(counts[1e-3], high)
+                self.assertGreater(counts[1e-4], counts[1e-3])
+                _, rows = read_table(self.path("residuals.csv"))
+                self.assertEqual(rows[0], ["iteration", "relative_residual"])
+                history = [float(r[1]) for r in rows[1:]]
+                self.assertEqual(len(history), counts[1e-4])
+                self.assertLessEqual(history[counts[1e-3] - 1], 1e-3)
+                self.assertGreater(history[counts[1e-3] - 2], 1e-3)
+                self.assertLessEqual(history[-1], 1e-4)
+                self.assertGreater(history[-2], 1e-4)
+                m = re.search(r"max \|dp_%s - dp_fft\| = (\S+) of" % method, res.out)
+                self.assertIsNotNone(m, res.out)
+                self.assertLess(float(m.group(1)), 1e-2, "after eps 1e-4, the solve is close to the exact one")
 
     def test_calibrate_refuses_two_ranks(self):
         res = run(WITH_PARTICLES + ["--method", "sor", "--calibrate"], ranks=2, cwd=self.dir)

@@ -17,7 +17,7 @@
 #include "smac_mg.hpp"
 #include "smac_sor.hpp"
 #include "solver_fixtures.hpp"
-#include "sor_calibration.hpp"
+#include "calibration.hpp"
 
 using namespace efsi;
 using namespace efsi::testing;
@@ -133,9 +133,8 @@ TEST(SmacSolver, SorApproachesTheFftReferenceAsSweepsIncrease) {
   }
 }
 
-// The calibration's count on a developed state, and SOR's distance to the exact solve at
-// each tolerance (the same comparison on the Poisson equation alone).
-TEST(SmacSolver, CalibrationCountsGrowAndSorReachesTheExactSolve) {
+// The calibration of `method` on the 32^3 block with its 2 particles, after 3 FFT steps.
+Calibration calibrate_block32(const std::string& method, const std::vector<double>& eps, int max_iterations) {
   ChannelCase c;
   c.domain = paper_block(32);
   c.particles = 2;
@@ -143,17 +142,42 @@ TEST(SmacSolver, CalibrationCountsGrowAndSorReachesTheExactSolve) {
   c.solver.cn_sweeps = 0;
   const auto particles = validate_case(c, world_size(), 0.01);
   CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo);
-  const SorCalibration cal = calibrate_sor(c, dec, particles, 3, {1e-2, 1e-4, 1e-6, 1e-10}, 5000);
-  ASSERT_EQ(cal.sweeps.size(), 4u);
-  for (int n : cal.sweeps) EXPECT_GT(n, 0);
-  for (std::size_t e = 1; e < 4; ++e) EXPECT_GT(cal.sweeps[e], cal.sweeps[e - 1]);
+  c.method = configure_method(method, {}, 0, true);
+  return calibrate(c, dec, particles, 3, eps, max_iterations);
+}
+
+// The calibration's count on a developed state, and SOR's distance to the exact solve at
+// each tolerance (the same comparison on the Poisson equation alone).
+TEST(SmacSolver, CalibrationCountsGrowAndSorReachesTheExactSolve) {
+  const Calibration cal = calibrate_block32("sor", {1e-2, 1e-4, 1e-6, 1e-10}, 5000);
+  ASSERT_EQ(cal.iterations.size(), 4u);
+  for (int n : cal.iterations) EXPECT_GT(n, 0);
+  for (std::size_t e = 1; e < 4; ++e) EXPECT_GT(cal.iterations[e], cal.iterations[e - 1]);
   EXPECT_GT(cal.initial_residual, 0.0);
   // After a 1e-10 residual ratio, SOR's dp equals the exact dp (up to SOR's free mean).
   EXPECT_LT(cal.fft_difference, 1e-8);
   if (world_rank() == 0)
     std::printf("  32^3 block, 2 particles: N_S = %d, %d, %d, %d for eps 1e-2, 1e-4, 1e-6, 1e-10; then "
                 "|dp_sor - dp_fft| = %.2e of max |dp_fft|\n",
-                cal.sweeps[0], cal.sweeps[1], cal.sweeps[2], cal.sweeps[3], cal.fft_difference);
+                cal.iterations[0], cal.iterations[1], cal.iterations[2], cal.iterations[3], cal.fft_difference);
+}
+
+// The same calibration of the multigrid's V-cycles: few, growing with the tolerance, each
+// cycle cutting the residual by a large factor, and dp the exact one at 1e-10.
+TEST(SmacSolver, MultigridCalibrationCountsFewCyclesAndReachesTheExactSolve) {
+  const Calibration cal = calibrate_block32("mg", {1e-2, 1e-4, 1e-10}, 100);
+  ASSERT_EQ(cal.iterations.size(), 3u);
+  for (int n : cal.iterations) EXPECT_GT(n, 0);
+  EXPECT_LE(cal.iterations[0], 5);
+  for (std::size_t e = 1; e < 3; ++e) EXPECT_GT(cal.iterations[e], cal.iterations[e - 1]);
+  // The history is hypre's relative residual after exactly n cycles: strictly falling.
+  ASSERT_EQ(static_cast<int>(cal.history.size()), cal.iterations[2]);
+  for (std::size_t m = 1; m < cal.history.size(); ++m) EXPECT_LT(cal.history[m], 0.5 * cal.history[m - 1]);
+  EXPECT_LT(cal.fft_difference, 1e-8);
+  if (world_rank() == 0)
+    std::printf("  32^3 block, 2 particles: %d, %d, %d V-cycles for eps 1e-2, 1e-4, 1e-10; then "
+                "|dp_mg - dp_fft| = %.2e of max |dp_fft|\n",
+                cal.iterations[0], cal.iterations[1], cal.iterations[2], cal.fft_difference);
 }
 
 

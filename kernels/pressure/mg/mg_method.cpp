@@ -16,12 +16,54 @@ namespace {
 
 constexpr int kMaxCycles = 1000;  // a tolerance no V-cycle count reaches stops here
 
+// The V-cycles per step that reach each tolerance on the paper's weak-scaling block, by the
+// calibration the paper made for SOR's N_S (channel --calibrate --method mg; the figures in
+// docs/numerics.md, "Multigrid calibration").  The campaign runs these fixed counts, so
+// that weak scaling keeps the work per rank fixed.
+struct CalibratedCycles {
+  const char* eps;
+  int cycles;
+};
+constexpr CalibratedCycles kCalibratedCycles[] = {{"1e-3", 5}, {"1e-4", 7}};
+
 // hypre's memory per cell of the block, in 8-byte words: the 7-point matrix, b and x, the
 // PFMG hierarchy (coarse matrices and work vectors) and its communication packages, and the
 // method's own transfer buffer.  Measured as the resident size of `channel --particles 0
 // --steps 1` with --method mg less that with --method sor on one rank: 28.9 words per cell
 // at 64^3, 27.7 at 96^3 (dev-2core); the model takes 27, below both.
 constexpr double kHypreWordsPerCell = 27.0;
+
+// V-cycles from x = 0 until hypre's relative residual (the l2 norm of the residual over that
+// of the right-hand side, as the SOR calibration's RMS ratio) is at most eps: the k-th
+// solve runs exactly k cycles, since hypre reports the residual only at the end of a solve.
+class MgCounter final : public IterationCounter {
+ public:
+  MgCounter(const CartDecomposition& decomp, const Domain& domain)
+      : x_(decomp, {"dp_mg", Stagger::cell, 1, WallParity::even}), mg_(decomp, domain) {}
+  std::vector<double> residuals(const Field& rhs, double factor, double eps, int max_iterations) override {
+    std::vector<double> out;
+    for (int n = 1; n <= max_iterations; ++n) {
+      // A tolerance no solve reaches: hypre computes the residual after every cycle only
+      // when it has one to test.
+      out.push_back(mg_.solve(rhs, x_, factor, MgStop{1e-300, n}).residual);
+      if (out.back() <= eps) break;
+    }
+    return out;
+  }
+  const Field& solution() const override { return x_; }
+
+ private:
+  Field x_;
+  MgPoisson mg_;
+};
+
+// "5 for 1e-3, 7 for 1e-4"
+std::string calibrated() {
+  std::string out;
+  for (const auto& c : kCalibratedCycles)
+    out += (out.empty() ? "" : ", ") + std::to_string(c.cycles) + " for " + c.eps;
+  return out;
+}
 
 class MgSpec final : public MethodSpec {
  public:
@@ -30,14 +72,19 @@ class MgSpec final : public MethodSpec {
     return "SMAC with hypre's PFMG multigrid solve, to --eps or for --mg-iters V-cycles";
   }
   std::vector<MethodOption> options() const override {
-    return {{"--eps", "multigrid: relative residual at which the solve stops (default 1e-3)", false},
-            {"--mg-iters", "multigrid V-cycles per step, a fixed count (overrides --eps)", true}};
+    return {{"--eps", "multigrid: relative residual at which the solve stops (default 1e-3); with --mg-iters, "
+                      "the tolerance that count was calibrated for, recorded in the CSV", false},
+            {"--mg-iters", "multigrid V-cycles per step, a fixed count (the calibrated ones: " + calibrated() +
+                               ")", true}};
   }
   bool supports(CommMode mode) const override { return mode == CommMode::sync; }
   int default_cn_sweeps() const override { return paper::kCnSweeps; }
   ScalingDefaults scaling_defaults() const override { return {paper::kSmacDt, paper::kSmacSteps}; }
   std::vector<CampaignVariant> campaign_variants() const override {
-    return {{"1e-3", {"--eps", "1e-3"}}, {"1e-4", {"--eps", "1e-4"}}};
+    std::vector<CampaignVariant> out;
+    for (const auto& c : kCalibratedCycles)
+      out.push_back({c.eps, {"--eps", c.eps, "--mg-iters", std::to_string(c.cycles)}});
+    return out;
   }
 
   void configure(const OptionValues& given, bool, MethodChoice& choice) const override {
@@ -48,9 +95,13 @@ class MgSpec final : public MethodSpec {
       throw ConfigError("--mg-iters " + format_value(iters->second) + " must lie between 1 and " +
                         std::to_string(kMaxCycles));
     if (iters != given.end()) {
-      choice.values["mg_iters"] = iters->second;
+      const int n = static_cast<int>(iters->second);
+      choice.values["mg_iters"] = n;
       choice.values["eps"] = 0.0;
-      choice.banner = std::to_string(static_cast<int>(iters->second)) + " multigrid V-cycles per step";
+      choice.report["ns_per_step"] = std::to_string(n);
+      if (eps != given.end()) choice.report["eps"] = format_value(eps->second);
+      choice.banner = std::to_string(n) + " multigrid V-cycles per step" +
+                      (eps != given.end() ? " (calibrated for " + format_value(eps->second) + ")" : "");
     } else {
       const double e = eps != given.end() ? eps->second : paper::kDefaultSorEps;
       choice.values["mg_iters"] = kMaxCycles;
@@ -64,6 +115,14 @@ class MgSpec final : public MethodSpec {
   std::string extra_bytes_hold() const override { return "hypre's matrix, vectors and hierarchy"; }
   double extra_bytes(const Int3& local, const Int3&) const override {
     return kHypreWordsPerCell * double(product(local)) * 8.0;
+  }
+
+  std::optional<CalibratedCount> calibrated_count() const override {
+    return CalibratedCount{"--mg-iters", "V-cycles", "PFMG V(2,1) from dp = 0"};
+  }
+  std::unique_ptr<IterationCounter> iteration_counter(const CartDecomposition& decomp,
+                                                      const Domain& domain) const override {
+    return std::make_unique<MgCounter>(decomp, domain);
   }
 
   std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild&) const override {

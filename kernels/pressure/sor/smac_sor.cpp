@@ -30,19 +30,4 @@ void SmacSorPressure::increment(PressureInputs& in) {
   sor_->sweeps(in.work.div, sweeps_, 1.0 / in.dt);
 }
 
-int count_sor_sweeps(SorPoisson& sor, Field& x, const Field& rhs, double factor, double eps, int max_sweeps,
-                     std::vector<double>* residuals) {
-  x.fill(0.0);
-  const double r0 = sor.residual_rms(rhs, factor);
-  if (residuals) residuals->clear();
-  if (!(r0 > 0.0)) return 0;
-  for (int n = 1; n <= max_sweeps; ++n) {
-    sor.sweeps(rhs, 1, factor);
-    const double r = sor.residual_rms(rhs, factor) / r0;
-    if (residuals) residuals->push_back(r);
-    if (r <= eps) return n;
-  }
-  return -1;
-}
-
 }  // namespace efsi

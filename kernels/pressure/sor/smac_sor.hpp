@@ -33,11 +33,4 @@ class SmacSorPressure final : public PressureMethod {
   PressureReport report_;
 };
 
-// The paper's calibration of N_S: SOR sweeps from x = 0 on Lap x = factor rhs until the
-// RMS residual is at most eps times its initial value. Returns the count, or -1 when
-// max_sweeps did not get there. `residuals` (optional) receives the relative residual
-// after every sweep. Collective; x is overwritten.
-int count_sor_sweeps(SorPoisson& sor, Field& x, const Field& rhs, double factor, double eps, int max_sweeps,
-                     std::vector<double>* residuals = nullptr);
-
 }  // namespace efsi

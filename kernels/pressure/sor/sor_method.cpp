@@ -29,6 +29,31 @@ int calibrated_sweeps(double eps) {
                     "); give --ns, or find one with --calibrate");
 }
 
+// The paper's calibration of N_S: sweeps from x = 0 until the RMS residual is at most eps
+// times its initial value.
+class SorCounter final : public IterationCounter {
+ public:
+  SorCounter(const CartDecomposition& decomp, const Domain& domain)
+      : x_(decomp, {"dp_sor", Stagger::cell, 1, WallParity::even}), sor_(decomp, domain, x_, CommMode::sync) {}
+  std::vector<double> residuals(const Field& rhs, double factor, double eps, int max_iterations) override {
+    x_.fill(0.0);
+    std::vector<double> out;
+    const double r0 = sor_.residual_rms(rhs, factor);
+    if (!(r0 > 0.0)) return out;
+    for (int n = 1; n <= max_iterations; ++n) {
+      sor_.sweeps(rhs, 1, factor);
+      out.push_back(sor_.residual_rms(rhs, factor) / r0);
+      if (out.back() <= eps) break;
+    }
+    return out;
+  }
+  const Field& solution() const override { return x_; }
+
+ private:
+  Field x_;
+  SorPoisson sor_;
+};
+
 class SorSpec final : public MethodSpec {
  public:
   std::string name() const override { return "sor"; }
@@ -69,6 +94,14 @@ class SorSpec final : public MethodSpec {
   IncrementWork increment_work(const MethodChoice& choice, const Int3&) const override {
     const double ns = choice.value("ns");
     return {kFill + ns * kSorSweep, 4 * ns + 1};
+  }
+
+  std::optional<CalibratedCount> calibrated_count() const override {
+    return CalibratedCount{"--ns", "sweeps", "SOR (omega " + format_value(paper::kSorOmega) + ") from dp = 0"};
+  }
+  std::unique_ptr<IterationCounter> iteration_counter(const CartDecomposition& decomp,
+                                                      const Domain& domain) const override {
+    return std::make_unique<SorCounter>(decomp, domain);
   }
 
   std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const override {

@@ -7,10 +7,14 @@
 // the registry lists them all.
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "comm_mode.hpp"
+#include "decomposition.hpp"
+#include "domain.hpp"
+#include "field.hpp"
 #include "grid_types.hpp"
 #include "pressure_method.hpp"
 #include "work_count.hpp"
@@ -49,6 +53,25 @@ struct IncrementWork {
 };
 
 class MethodSpec;
+
+// A method whose work per step is an iteration count calibrated on one rank (SOR's N_S
+// sweeps, MG's V-cycles; kernels/cases/calibration.hpp) counts its iterations through this.
+class IterationCounter {
+ public:
+  virtual ~IterationCounter() = default;
+  // From x = 0 on Lap x = factor rhs: the relative RMS residual ||factor rhs - Lap x|| /
+  // ||factor rhs|| after iterations 1, 2, ..., until one is at most `eps` or after
+  // `max_iterations`.  Leaves x after the last.  Collective.
+  virtual std::vector<double> residuals(const Field& rhs, double factor, double eps, int max_iterations) = 0;
+  virtual const Field& solution() const = 0;
+};
+
+// What a method's calibration counts, for its report.
+struct CalibratedCount {
+  std::string flag;       // the option that sets the count: "--ns"
+  std::string unit;       // "sweeps"
+  std::string procedure;  // "SOR (omega 1.6) from dp = 0"
+};
 
 // A method configured for a run: everything the run needs from it besides the solver's
 // own configuration.
@@ -89,7 +112,7 @@ class MethodSpec {
   virtual std::vector<CampaignVariant> campaign_variants() const { return {}; }
   // Resolves and checks the method's own settings from `given` (only its own flags), and
   // fills choice.values, report and banner; throws ConfigError naming the value and the
-  // limit.  `calibrating`: for a run that only calibrates the method (SOR's N_S).
+  // limit.  `calibrating`: for a run that only calibrates the method's count.
   virtual void configure(const OptionValues& given, bool calibrating, MethodChoice& choice) const = 0;
   virtual std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const = 0;
   // Bytes per rank beyond the Fields the method makes (those the memory model records
@@ -97,6 +120,12 @@ class MethodSpec {
   virtual double extra_bytes(const Int3& /*local*/, const Int3& /*dims*/) const { return 0.0; }
   // What those bytes hold, for the dry run ("FFT pencils and transposes").
   virtual std::string extra_bytes_hold() const { return name() + " solver"; }
+  // For a method with a calibrated iteration count: what it counts, and a counter on
+  // `decomp`; none (the default): the method has nothing to calibrate.
+  virtual std::optional<CalibratedCount> calibrated_count() const { return std::nullopt; }
+  virtual std::unique_ptr<IterationCounter> iteration_counter(const CartDecomposition&, const Domain&) const {
+    return nullptr;
+  }
   // One increment's work on a `global` grid under `choice` (Crank-Nicolson apart: the step
   // counts its choice.cn_sweeps itself).
   virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global) const = 0;

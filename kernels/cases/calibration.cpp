@@ -1,4 +1,4 @@
-#include "sor_calibration.hpp"
+#include "calibration.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -6,13 +6,27 @@
 #include <string>
 
 #include "config_error.hpp"
-#include "smac_sor.hpp"
+#include "method_spec.hpp"
 
 namespace efsi {
+namespace {
 
-SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& decomp,
-                             const std::vector<Particle>& particles, long warmup, const std::vector<double>& eps,
-                             int max_sweeps) {
+double rms_owned(const Field& f, const CartDecomposition& decomp) {
+  const Int3 n = f.n();
+  double sum = 0.0, total = 0.0;
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) sum += f(i, j, k) * f(i, j, k);
+  MPI_Allreduce(&sum, &total, 1, MPI_DOUBLE, MPI_SUM, decomp.comm());
+  return std::sqrt(total / double(product(decomp.global())));
+}
+
+}  // namespace
+
+Calibration calibrate(const ChannelCase& c, const CartDecomposition& decomp, const std::vector<Particle>& particles,
+                      long warmup, const std::vector<double>& eps, int max_iterations) {
+  auto counter = c.method.spec->iteration_counter(decomp, c.domain);
+  if (!counter) throw ConfigError("method " + c.method.name() + " has no iteration count to calibrate");
   ChannelCase ref = c;
   ref.method = configure_method("fft", {}, c.solver.cn_sweeps);
   auto solver = build_solver(ref, decomp, particles);
@@ -24,16 +38,11 @@ SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& deco
   const Field& div = solver->work().div;
   const Field& dp_fft = solver->work().dp;
   const double factor = 1.0 / c.solver.dt;
-  Field x(decomp, {"dp_sor", Stagger::cell, 1, WallParity::even});
-  SorPoisson sor(decomp, c.domain, x, CommMode::sync);
-
-  SorCalibration out;
-  x.fill(0.0);
-  out.initial_residual = sor.residual_rms(div, factor);
+  Calibration out;
+  out.initial_residual = rms_owned(div, decomp) * factor;
   double tightest = 1.0;
   for (double e : eps) tightest = std::min(tightest, e);
-  // Leaves x after the last sweep counted, for the comparison with the exact solve.
-  count_sor_sweeps(sor, x, div, factor, tightest, max_sweeps, &out.history);
+  out.history = counter->residuals(div, factor, tightest, max_iterations);
   for (double e : eps) {
     int n = -1;
     for (std::size_t m = 0; m < out.history.size(); ++m)
@@ -41,12 +50,13 @@ SorCalibration calibrate_sor(const ChannelCase& c, const CartDecomposition& deco
         n = static_cast<int>(m) + 1;
         break;
       }
-    out.sweeps.push_back(n);
+    out.iterations.push_back(n);
   }
 
+  const Field& x = counter->solution();
   double diff = 0.0, ref_max = 0.0;
   const Int3 n = x.n();
-  // SOR leaves the mean of dp free; compare after removing it.
+  // An iteration may leave the mean of dp free (SOR does); compare after removing it.
   double sums[2] = {0, 0}, global[2] = {0, 0};
   for (int k = 0; k < n[Z]; ++k)
     for (int j = 0; j < n[Y]; ++j)
