@@ -205,6 +205,12 @@ def write_table(path, kind, paper, ours, loaded, sources, paper_path):
         out.append("")
         setups = sorted({s.setup for s in ours})
         out.append("Set-up: " + "; ".join(s.describe(["block", "steps", "threads", "host"]) for s in setups) + ".")
+        iterating = [s for s in ours if any(p.iterations is not None for p in s.points)]
+        if iterating:
+            out += ["", "Pressure iterations per step (SOR sweeps, multigrid V-cycles; median), by ranks:"]
+            for s in iterating:
+                per = ", ".join(f"{p.iterations:g} ({p.ranks:,})" for p in s.points if p.iterations is not None)
+                out.append(f"- {rd.label(s, fields)}: {per}")
     else:
         out.append(f"No valid {kind}-scaling rows in the input.")
     if loaded.skipped:

@@ -70,6 +70,7 @@ class Point:
     elapsed_s: float        # median over the runs
     comm_fraction: float    # median over the runs
     runs: int
+    iterations: float = None  # median pressure iterations per step (SOR sweeps, V-cycles); None: none
 
 
 @dataclasses.dataclass
@@ -151,8 +152,10 @@ def series(loaded, experiment):
         pts = []
         for ranks in sorted(by_ranks):
             rs = by_ranks[ranks]
+            its = [float(r["pressure_iterations"]) for r in rs if (r.get("pressure_iterations") or "").strip()]
             pts.append(Point(ranks, statistics.median(float(r["elapsed_s"]) for r in rs),
-                             statistics.median(float(r["comm_fraction"]) for r in rs), len(rs)))
+                             statistics.median(float(r["comm_fraction"]) for r in rs), len(rs),
+                             statistics.median(its) if its else None))
         out.append(Series(experiment, config, setup, pts))
     out.sort(key=lambda s: (s.config.sort_key, s.setup))
     return out

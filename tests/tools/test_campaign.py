@@ -33,12 +33,15 @@ CAMPAIGN = os.path.join(REPO, "harness", "campaign.py")
 BIN_DIR = os.environ.get("EFSI_BIN_DIR", "")
 MPIEXEC = os.environ.get("EFSI_MPIEXEC") or shutil.which("mpiexec") or shutil.which("mpirun") or "mpirun"
 PAPER_CONFIGS = ["acm-sync", "sor-sync-1e-3", "sor-async-1e-3", "sor-sync-1e-4", "sor-async-1e-4"]
+CLUSTER_CONFIGS = PAPER_CONFIGS + ["mg-sync-1e-3", "mg-sync-1e-4"]  # and the multigrid the paper left open
 CONFIG_ARGS = {  # the driver options each configuration must pass
     "acm-sync": "--method acm --comm sync",
     "sor-sync-1e-3": "--method sor --comm sync --eps 1e-3",
     "sor-async-1e-3": "--method sor --comm async --eps 1e-3",
     "sor-sync-1e-4": "--method sor --comm sync --eps 1e-4",
     "sor-async-1e-4": "--method sor --comm async --eps 1e-4",
+    "mg-sync-1e-3": "--method mg --comm sync --eps 1e-3 --mg-iters 5",
+    "mg-sync-1e-4": "--method mg --comm sync --eps 1e-4 --mg-iters 7",
 }
 
 
@@ -118,14 +121,14 @@ class SlurmScripts(unittest.TestCase):
                                          [f"efsi-strong-{r:05d}.sbatch" for r in strong]))
         for r in weak:
             text, opt = self.check_script(os.path.join(out, f"efsi-weak-{r:05d}.sbatch"), r, 1, 8,
-                                          "weak_scaling", PAPER_CONFIGS)
+                                          "weak_scaling", CLUSTER_CONFIGS)
             self.assertEqual(opt["account"], "proj1")
             self.assertEqual(opt["partition"], "batch")
             self.assertNotIn("--scale", text)       # the driver's defaults are the paper's block
             self.assertNotIn("--local", text)
         for r in strong:
             text, _ = self.check_script(os.path.join(out, f"efsi-strong-{r:05d}.sbatch"), r, 1, 8,
-                                        "strong_scaling", PAPER_CONFIGS)
+                                        "strong_scaling", CLUSTER_CONFIGS)
             for line in text.splitlines():
                 if line.startswith("run srun"):
                     self.assertIn("--scale 1 ", line)
@@ -197,7 +200,7 @@ class LocalRuns(unittest.TestCase):
         r = campaign("local", "--sweep", "mini", "--csv", "unused.csv", "--cores", "1", "--dry-run")
         self.assertEqual(r.returncode, 0, r.stderr)
         launches = [l.strip() for l in r.stdout.splitlines() if "mpirun" in l or MPIEXEC in l]
-        self.assertEqual(len(launches), 4)
+        self.assertEqual(len(launches), 6)
         one = [l for l in launches if " -n 1 " in l]
         two = [l for l in launches if " -n 2 " in l]
         self.assertTrue(all("--oversubscribe" not in l and "--bind-to core" in l for l in one), one)
@@ -280,7 +283,7 @@ class ListAndCollect(unittest.TestCase):
         self.assertEqual(campaign("list", "--sweep", "weak", "--what", "ranks").stdout,
                          ",".join(str(2 ** k) for k in range(14)))
         self.assertEqual(campaign("list", "--sweep", "strong", "--what", "ranks").stdout, "1024,2048,4096,8192")
-        self.assertEqual(campaign("list", "--sweep", "weak", "--what", "configs").stdout, ",".join(PAPER_CONFIGS))
+        self.assertEqual(campaign("list", "--sweep", "weak", "--what", "configs").stdout, ",".join(CLUSTER_CONFIGS))
         self.assertEqual(campaign("list", "--sweep", "mini", "--what", "driver").stdout, "weak_scaling")
 
     def test_all_methods_come_from_the_registry(self):

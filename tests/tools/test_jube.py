@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """The JUBE definition harness/jube/efsi_bench.xml, run for real on the mini sweep.
 
-`jube run --tag mini` starts four runs (1 and 2 ranks, ACM sync and SOR async eps 1e-3, the
-paper's 64^3 block per rank, 2 measured steps) through campaign.py and mpirun; then
+`jube run --tag mini` starts six runs (1 and 2 ranks, ACM sync, SOR async eps 1e-3 and MG
+at its count for 1e-3, the paper's 64^3 block per rank, 2 measured steps) through campaign.py and mpirun; then
 `jube result -a` analyses them.  Checked: every workpackage ran, results.csv in the run
-directory holds the four rows under one section-8 header, each valid and of the right
+directory holds the six rows under one section-8 header, each valid and of the right
 configuration, and JUBE's result table reports the same configurations and times.
 
 Usage: test_jube.py --bin-dir BUILD/bin [--jube JUBE] [unittest options]
@@ -26,7 +26,7 @@ JUBE = shutil.which("jube") or "jube"
 SECTION8 = ("experiment,method,comm,eps,ranks,threads,px,py,pz,nx,ny,nz,particles,steps,dt,ns_per_step,"
             "nc_per_step,elapsed_s,compute_s,halo_s,reduce_s,comm_s,comm_s_max,comm_fraction,mlups,div_rms,"
             "valid,host,mpi,compiler,git_sha,timestamp").split(",")
-EXPECTED = {("1", "acm-sync"), ("1", "sor-async-1e-3"), ("2", "acm-sync"), ("2", "sor-async-1e-3")}
+EXPECTED = {(r, c) for r in ("1", "2") for c in ("acm-sync", "sor-async-1e-3", "mg-sync-1e-3")}
 
 
 def config_name(row):
@@ -55,7 +55,7 @@ class JubeMiniSweep(unittest.TestCase):
     def test_every_workpackage_ran(self):
         self.assertEqual(self.run_.returncode, 0, self.run_.stdout + self.run_.stderr)
         wps = sorted(d for d in os.listdir(self.rundir) if d.endswith("_run"))
-        self.assertEqual(len(wps), 4, wps)
+        self.assertEqual(len(wps), 6, wps)
         for wp in wps:
             self.assertTrue(os.path.exists(os.path.join(self.rundir, wp, "done")), f"{wp} did not finish")
             with open(os.path.join(self.rundir, wp, "work", "run.csv")) as f:
@@ -68,7 +68,7 @@ class JubeMiniSweep(unittest.TestCase):
             self.assertEqual(reader.fieldnames[:len(SECTION8)], SECTION8)
             rows = list(reader)
         self.assertEqual({(r["ranks"], config_name(r)) for r in rows}, EXPECTED)
-        self.assertEqual(len(rows), 4)
+        self.assertEqual(len(rows), 6)
         for r in rows:
             self.assertEqual((r["experiment"], r["steps"], r["threads"], r["valid"]), ("weak", "2", "1", "1"), r)
             px, py, pz = int(r["px"]), int(r["py"]), int(r["pz"])

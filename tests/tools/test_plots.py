@@ -55,6 +55,11 @@ def expected_cells(path):
     return out
 
 
+def eps_text(eps):
+    """'0.001' -> '1e-3', as the tables write a tolerance."""
+    return ("%g" % float(eps)).replace("0.001", "1e-3").replace("0.0001", "1e-4") if eps else ""
+
+
 def section(text, title_start):
     """The Markdown between a '## title' line and the next '## '."""
     m = re.search(rf"(?ms)^## {re.escape(title_start)}.*?(?=^## |\Z)", text)
@@ -98,9 +103,9 @@ class Figures(unittest.TestCase):
         expected = expected_cells(csv_path)
         self.assertTrue(expected)
         for (method, comm, eps), by_ranks in expected.items():
-            label = {"acm": "ACM", "sor": "SOR", "fft": "FFT"}[method] + f" {comm}"
+            label = method.upper() + f" {comm}"
             if eps:
-                label += f" eps={eps.replace('0.001', '1e-3').replace('0.0001', '1e-4')}"
+                label += f" eps={eps_text(eps)}"
             header = next(l for l in ours.splitlines() if l.startswith("| ranks"))
             columns = [c.strip() for c in header.strip("|").split("|")]
             # A set-up that differs between series (steps, block) follows the label in brackets.
@@ -120,6 +125,21 @@ class Figures(unittest.TestCase):
         self.assertIn("31.96 s (0.675)", paper)
         self.assertIn("102.2 s (0.262)", paper)
         self.assertEqual(len([l for l in paper.splitlines() if re.match(r"\| [\d,]+ \|", l)]), 14)
+
+    def test_table2_lists_the_iterations_per_step(self):
+        ours = section(self.read("table2_weak.md"), "This benchmark")
+        want = collections.defaultdict(dict)
+        with open(self.weak) as f:
+            for row in csv.DictReader(f):
+                if row["valid"] == "1" and row["pressure_iterations"]:
+                    eps = eps_text(row["eps"])
+                    label = f"{row['method'].upper()} {row['comm']}" + (f" eps={eps}" if eps else "")
+                    want[label].setdefault(int(row["ranks"]), []).append(float(row["pressure_iterations"]))
+        self.assertIn("MG sync eps=1e-3", want, "the data hold the multigrid's rows")
+        for label, by_ranks in want.items():
+            line = next(l for l in ours.splitlines() if l.startswith(f"- {label}"))
+            per = ", ".join(f"{statistics.median(v):g} ({r:,})" for r, v in sorted(by_ranks.items()))
+            self.assertTrue(line.endswith(": " + per), line)
 
     def test_table4_speedup_beside_the_paper(self):
         text = self.check_table("table4_strong.md", self.strong, "This benchmark")

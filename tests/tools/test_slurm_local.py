@@ -121,23 +121,23 @@ class CampaignUnderSlurm(unittest.TestCase):
                 f = job_fields(job_id)
                 self.assertEqual((f.get("JobState"), f.get("ExitCode")), ("COMPLETED", "0:0"), text[-3000:])
                 self.assertEqual((int(f["NumTasks"]), int(f["CPUs/Task"])), (ranks, threads))
-                self.assertEqual(text.count("+ srun --mpi=pmix "), 2, text)  # acm-sync, sor-async-1e-3
-                self.assertEqual(len(re.findall(r"(?m)^validation: .*: PASSED$", text)), 2, text)
+                self.assertEqual(text.count("+ srun --mpi=pmix "), 3, text)  # acm-sync, sor-async-1e-3, mg-sync-1e-3
+                self.assertEqual(len(re.findall(r"(?m)^validation: .*: PASSED$", text)), 3, text)
 
     def test_one_csv_per_job_gathered_by_collect(self):
         self.assertEqual(self.collect.returncode, 0, self.collect.stderr)
         names = sorted(os.path.basename(p) for p in self.parts)
         expected = sorted(f"{script[:-7]}-{job_id}.csv" for job_id, (script, *_rest) in self.jobs.items())
         self.assertEqual(names, expected)
-        self.assertIn(f"collected 6 row(s) into {self.collected}", self.collect.stdout)
+        self.assertIn(f"collected 9 row(s) into {self.collected}", self.collect.stdout)
 
     def test_rows_show_ranks_threads_and_the_binding_slurm_gave(self):
         with open(self.collected) as f:
             rows = list(csv.DictReader(f))
-        self.assertEqual(len(rows), 6)
+        self.assertEqual(len(rows), 9)
         got = sorted((r["ranks"], r["threads"], r["method"], r["comm"]) for r in rows)
         self.assertEqual(got, sorted([(n, t, m, c) for n, t in (("1", "1"), ("2", "1"), ("1", "2"))
-                                      for m, c in (("acm", "sync"), ("sor", "async"))]))
+                                      for m, c in (("acm", "sync"), ("sor", "async"), ("mg", "sync"))]))
         all_cores = set(range(self.node_cpus))
         for r in rows:
             with self.subTest(ranks=r["ranks"], threads=r["threads"], method=r["method"]):
