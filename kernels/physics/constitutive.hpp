@@ -2,7 +2,9 @@
 // Strain rate and the solid's deviatoric stress on the staggered grid: the one
 // definition that the momentum equation and the energy-budget diagnostics share.
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "fsi_state.hpp"
 #include "stencils.hpp"
@@ -14,8 +16,13 @@ struct InverseSpacing {
   explicit InverseSpacing(const Domain& d) : h{1.0 / d.spacing(X), 1.0 / d.spacing(Y), 1.0 / d.spacing(Z)} {}
 };
 
-// WENO transport can undershoot phi slightly below zero at the interface.
-inline double sqrt_phi(double phi) { return std::sqrt(std::max(phi, 0.0)); }
+// WENO transport can undershoot phi slightly below zero at the interface: sqrt of
+// std::max(phi, 0.0).  The clamp is a bit mask, since GCC turns a select before sqrt into
+// a branch around it, which keeps the loops that call this scalar.
+inline double sqrt_phi(double phi) {
+  const std::uint64_t keep = phi < 0.0 ? 0 : ~std::uint64_t{0};
+  return std::sqrt(std::bit_cast<double>(std::bit_cast<std::uint64_t>(phi) & keep));
+}
 
 // L_AM = d v_A / d x_M at its own location, tensor_location(A, M).
 template <int A, int M>

@@ -63,6 +63,27 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
     return (t(i + ax, j + ay, k + az) - t(i, j, k)) * inv.h[A];
 }
 
+// Sets out to body(i, j, k) on the faces of component C in `box`, and to zero on the wall
+// faces of v.
+template <int C, class Body>
+void faces_of_component(const FieldSet& s, Field& out, const Box& box, Body&& body) {
+  if constexpr (C == Y) {
+    const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
+      if (wall) for_box(b, [&](int i, int j, int k) { out(i, j, k) = 0.0; });
+      else for_box(b, [&](int i, int j, int k) { out(i, j, k) = body(i, j, k); });
+    });
+  } else {
+    for_box(box, [&](int i, int j, int k) { out(i, j, k) = body(i, j, k); });
+  }
+}
+
+template <int C>
+inline double divergence_of(const std::array<Field, 6>& tau, const Inv& inv, int i, int j, int k) {
+  return stress_divergence_term<C, X>(tau, inv, i, j, k) + stress_divergence_term<C, Y>(tau, inv, i, j, k) +
+         stress_divergence_term<C, Z>(tau, inv, i, j, k);
+}
+
 template <int C>
 void momentum_component(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau, Field& out,
                         const Box& box) {
@@ -72,48 +93,27 @@ void momentum_component(const FieldSet& s, const Physics& ph, const std::array<F
   const double inv_rho = 1.0 / ph.rho;
   const double force = C == X ? ph.force * inv_rho : 0.0;
   // Wall faces of v (global j = 0 and j = NY) stay at rest.
-  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
-  auto body = [&](int i, int j, int k) {
+  faces_of_component<C>(s, out, box, [&](int i, int j, int k) {
     const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
                        advection_term<C, Z>(s, inv, i, j, k);
-    const double div_tau = stress_divergence_term<C, X>(tau, inv, i, j, k) +
-                           stress_divergence_term<C, Y>(tau, inv, i, j, k) +
-                           stress_divergence_term<C, Z>(tau, inv, i, j, k);
     const double grad_p = (p(i, j, k) - p(i - cx, j - cy, k - cz)) * inv.h[C];
-    out(i, j, k) = -adv + (div_tau - grad_p) * inv_rho + force;
-  };
-  if constexpr (C == Y) {
-    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
-      if (wall) for_box(b, [&](int i, int j, int k) { out(i, j, k) = 0.0; });
-      else for_box(b, body);
-    });
-  } else {
-    for_box(box, body);
-  }
+    return -adv + (divergence_of<C>(tau, inv, i, j, k) - grad_p) * inv_rho + force;
+  });
 }
 
 template <int C>
-void stress_difference_component(const std::array<Field, 6>& tau_a, const std::array<Field, 6>& tau_b,
-                                 const FieldSet& s, double c, const Field& base, Field& out, const Box& box) {
+void stress_divergence_component(const std::array<Field, 6>& tau, const FieldSet& s, Field& out, const Box& box) {
   const Inv inv(s.domain());
-  auto body = [&](int i, int j, int k) {
-    const double da = stress_divergence_term<C, X>(tau_a, inv, i, j, k) +
-                      stress_divergence_term<C, Y>(tau_a, inv, i, j, k) +
-                      stress_divergence_term<C, Z>(tau_a, inv, i, j, k);
-    const double db = stress_divergence_term<C, X>(tau_b, inv, i, j, k) +
-                      stress_divergence_term<C, Y>(tau_b, inv, i, j, k) +
-                      stress_divergence_term<C, Z>(tau_b, inv, i, j, k);
-    out(i, j, k) = base(i, j, k) + c * (da - db);
-  };
-  if constexpr (C == Y) {
-    const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
-    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
-      if (wall) for_box(b, [&](int i, int j, int k) { out(i, j, k) = 0.0; });
-      else for_box(b, body);
-    });
-  } else {
-    for_box(box, body);
-  }
+  faces_of_component<C>(s, out, box, [&](int i, int j, int k) { return divergence_of<C>(tau, inv, i, j, k); });
+}
+
+template <int C>
+void stress_difference_component(const std::array<Field, 6>& tau_a, const Field& div_b, const FieldSet& s, double c,
+                                 const Field& base, Field& out, const Box& box) {
+  const Inv inv(s.domain());
+  faces_of_component<C>(s, out, box, [&](int i, int j, int k) {
+    return base(i, j, k) + c * (divergence_of<C>(tau_a, inv, i, j, k) - div_b(i, j, k));
+  });
 }
 }  // namespace
 
@@ -177,12 +177,19 @@ void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field
   stress_component<1, 2>(s, ph, tau[5], owned_extent(tau[5], owned));
 }
 
+void stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, std::array<Field, 3>& out,
+                       const Box& faces) {
+  stress_divergence_component<X>(tau, s, out[0], faces);
+  stress_divergence_component<Y>(tau, s, out[1], faces);
+  stress_divergence_component<Z>(tau, s, out[2], faces);
+}
+
 void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
-                                      const std::array<Field, 6>& tau_b, double c, const std::array<Field, 3>& base,
+                                      const std::array<Field, 3>& div_b, double c, const std::array<Field, 3>& base,
                                       std::array<Field, 3>& out, const Box& faces) {
-  stress_difference_component<X>(tau_a, tau_b, s, c, base[0], out[0], faces);
-  stress_difference_component<Y>(tau_a, tau_b, s, c, base[1], out[1], faces);
-  stress_difference_component<Z>(tau_a, tau_b, s, c, base[2], out[2], faces);
+  stress_difference_component<X>(tau_a, div_b[0], s, c, base[0], out[0], faces);
+  stress_difference_component<Y>(tau_a, div_b[1], s, c, base[1], out[1], faces);
+  stress_difference_component<Z>(tau_a, div_b[2], s, c, base[2], out[2], faces);
 }
 
 }  // namespace efsi
