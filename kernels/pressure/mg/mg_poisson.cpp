@@ -32,6 +32,35 @@ void check(HYPRE_Int err, const char* what) {
   HYPRE_ClearAllErrors();
 }
 
+// The entry points a solve and the teardown call, the same for the three solvers.
+struct SolverCalls {
+  HYPRE_Int (*set_tol)(HYPRE_StructSolver, HYPRE_Real);
+  HYPRE_Int (*set_max_iter)(HYPRE_StructSolver, HYPRE_Int);
+  HYPRE_Int (*solve)(HYPRE_StructSolver, HYPRE_StructMatrix, HYPRE_StructVector, HYPRE_StructVector);
+  HYPRE_Int (*iterations)(HYPRE_StructSolver, HYPRE_Int*);
+  HYPRE_Int (*residual)(HYPRE_StructSolver, HYPRE_Real*);
+  HYPRE_Int (*destroy)(HYPRE_StructSolver);
+  const char* solve_name;
+};
+
+const SolverCalls& calls(MgSolver kind) {
+  static const SolverCalls pfmg{HYPRE_StructPFMGSetTol, HYPRE_StructPFMGSetMaxIter, HYPRE_StructPFMGSolve,
+                                HYPRE_StructPFMGGetNumIterations, HYPRE_StructPFMGGetFinalRelativeResidualNorm,
+                                HYPRE_StructPFMGDestroy, "StructPFMGSolve"};
+  static const SolverCalls smg{HYPRE_StructSMGSetTol, HYPRE_StructSMGSetMaxIter, HYPRE_StructSMGSolve,
+                               HYPRE_StructSMGGetNumIterations, HYPRE_StructSMGGetFinalRelativeResidualNorm,
+                               HYPRE_StructSMGDestroy, "StructSMGSolve"};
+  static const SolverCalls pcg{HYPRE_StructPCGSetTol, HYPRE_StructPCGSetMaxIter, HYPRE_StructPCGSolve,
+                               HYPRE_StructPCGGetNumIterations, HYPRE_StructPCGGetFinalRelativeResidualNorm,
+                               HYPRE_StructPCGDestroy, "StructPCGSolve"};
+  switch (kind) {
+    case MgSolver::pfmg: return pfmg;
+    case MgSolver::smg: return smg;
+    case MgSolver::pcg_pfmg: return pcg;
+  }
+  return pfmg;
+}
+
 }  // namespace
 
 void check_mg_grid(const Int3& cells) {
@@ -169,11 +198,7 @@ MgPoisson::MgPoisson(const CartDecomposition& decomp, const Domain& domain, Regi
 }
 
 MgPoisson::~MgPoisson() {
-  if (solver_) {
-    if (kind_ == MgSolver::pfmg) HYPRE_StructPFMGDestroy(S(solver_));
-    if (kind_ == MgSolver::smg) HYPRE_StructSMGDestroy(S(solver_));
-    if (kind_ == MgSolver::pcg_pfmg) HYPRE_StructPCGDestroy(S(solver_));
-  }
+  if (solver_) calls(kind_).destroy(S(solver_));
   if (precond_) HYPRE_StructPFMGDestroy(S(precond_));
   if (x_) HYPRE_StructVectorDestroy(V(x_));
   if (b_) HYPRE_StructVectorDestroy(V(b_));
@@ -201,30 +226,13 @@ MgResult MgPoisson::solve(const Field& rhs, Field& x, double factor, const MgSto
 
   MgResult r;
   HYPRE_Int cycles = 0;
+  const SolverCalls& c = calls(kind_);
   HYPRE_StructSolver sv = S(solver_);
-  switch (kind_) {
-    case MgSolver::pfmg:
-      HYPRE_StructPFMGSetTol(sv, stop.tolerance);
-      HYPRE_StructPFMGSetMaxIter(sv, stop.max_cycles);
-      check(HYPRE_StructPFMGSolve(sv, M(matrix_), V(b_), V(x_)), "StructPFMGSolve");
-      HYPRE_StructPFMGGetNumIterations(sv, &cycles);
-      HYPRE_StructPFMGGetFinalRelativeResidualNorm(sv, &r.residual);
-      break;
-    case MgSolver::smg:
-      HYPRE_StructSMGSetTol(sv, stop.tolerance);
-      HYPRE_StructSMGSetMaxIter(sv, stop.max_cycles);
-      check(HYPRE_StructSMGSolve(sv, M(matrix_), V(b_), V(x_)), "StructSMGSolve");
-      HYPRE_StructSMGGetNumIterations(sv, &cycles);
-      HYPRE_StructSMGGetFinalRelativeResidualNorm(sv, &r.residual);
-      break;
-    case MgSolver::pcg_pfmg:
-      HYPRE_StructPCGSetTol(sv, stop.tolerance);
-      HYPRE_StructPCGSetMaxIter(sv, stop.max_cycles);
-      check(HYPRE_StructPCGSolve(sv, M(matrix_), V(b_), V(x_)), "StructPCGSolve");
-      HYPRE_StructPCGGetNumIterations(sv, &cycles);
-      HYPRE_StructPCGGetFinalRelativeResidualNorm(sv, &r.residual);
-      break;
-  }
+  c.set_tol(sv, stop.tolerance);
+  c.set_max_iter(sv, stop.max_cycles);
+  check(c.solve(sv, M(matrix_), V(b_), V(x_)), c.solve_name);
+  c.iterations(sv, &cycles);
+  c.residual(sv, &r.residual);
   r.cycles = cycles;
 
   check(HYPRE_StructVectorGetBoxValues(V(x_), lo_.data(), hi_.data(), values_.data()), "StructVectorGetBoxValues");
