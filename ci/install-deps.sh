@@ -7,11 +7,13 @@ packages=(
   libopenmpi-dev openmpi-bin         # MPI
   libfftw3-dev                       # FFTW3 (double, with libfftw3_omp)
   libhypre-dev                       # hypre: the multigrid pressure method
+  libhdf5-openmpi-dev                # parallel HDF5: snapshots and checkpoints
   libcli11-dev                       # command lines
   libgtest-dev googletest            # tests
   libbenchmark-dev                   # micro-benchmarks
   valgrind                           # the CI gate's counted work (callgrind)
   python3 python3-matplotlib         # plots (Debian's python3 at /usr/bin/python3)
+  python3-h5py python3-skimage       # reading snapshots; phi = 1/2 surfaces (marching cubes)
   jube                               # cluster benchmark definitions
   slurmctld slurmd slurm-client munge  # the local one-node SLURM cluster (harness/slurm-local)
   python3-venv                       # the ReFrame venv (harness/reframe/setup-venv.sh)
