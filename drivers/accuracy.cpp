@@ -78,6 +78,7 @@ int run(const Options& o) {
   c.solver.velocity_limit = default_velocity_limit(c);
   const std::string dir = o.out.empty() ? "." : o.out;
   check_writable(dir + "/comparison.txt", "--out");
+  check_writable(o.csv, "--csv");
 
   // Every method's set-up is checked before the first one runs: a run of hours must not be
   // followed by a configuration error.
@@ -100,13 +101,14 @@ int run(const Options& o) {
     req.every = every;
     req.series = dir + "/series-" + tag + ".csv";
     req.centroids = dir + "/centroids-" + tag + ".csv";
-    req.csv = o.csv;
+    // The rows are appended at the end, after comparison.txt: none is recorded for a run
+    // whose outputs were not all written.
     runs.push_back(run_case(c, particles[k], req));
     const CartDecomposition& dec = *runs.back().decomp;
     const Field& phi = runs.back().solver->state().phi();
     regions.push_back(solid_regions(phi, c.domain, dec));
     phi_global.push_back(gather_global(phi, dec));
-    if (is_root()) write_vti(dir + "/phi-" + tag + ".vti", c.domain, {{"phi", &phi_global.back()}});
+    write_on_root([&] { write_vti(dir + "/phi-" + tag + ".vti", c.domain, {{"phi", &phi_global.back()}}); });
   }
 
   // The differences at the end against the first method (ACM against the FFT reference).
@@ -129,10 +131,12 @@ int run(const Options& o) {
   }
   bool valid = true;
   for (const RunOutcome& r : runs) valid = valid && r.valid;
-  if (is_root()) {
-    std::fputs(text.c_str(), stdout);
+  if (is_root()) std::fputs(text.c_str(), stdout);
+  write_on_root([&] {
     write_text_file(dir + "/comparison.txt", text);
-  }
+    if (!o.csv.empty())
+      for (const RunOutcome& r : runs) append_csv(o.csv, r.record);
+  });
   return valid ? 0 : 4;
 }
 

@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <iterator>
 #include <optional>
 #include <sstream>
@@ -115,6 +114,50 @@ Validation validate(const std::vector<FlowDiagnostics>& tail, const Domain& dom)
   return v;
 }
 
+// The run's CSV row (harness/run_record.hpp).
+RunRecord run_record(const ChannelCase& c, const RunRequest& req, const CartDecomposition& dec,
+                     const HybridLayout& layout, std::size_t particles, const TimerReport& rep, double div_rms,
+                     bool valid, double pressure_iterations, double pressure_setup_s) {
+  RunRecord r;
+  r.experiment = req.experiment;
+  r.method = c.method.name();
+  r.comm = to_string(c.solver.comm);
+  const auto cell = [&](const char* key) {
+    const auto it = c.method.report.find(key);
+    return it == c.method.report.end() ? std::string() : it->second;
+  };
+  r.eps = cell("eps");
+  r.ranks = static_cast<int>(product(dec.dims()));
+  r.threads = max_threads();
+  r.px = dec.dims()[0], r.py = dec.dims()[1], r.pz = dec.dims()[2];
+  r.nx = c.domain.cells[0], r.ny = c.domain.cells[1], r.nz = c.domain.cells[2];
+  r.particles = static_cast<long>(particles);
+  r.steps = req.total_steps - 1;
+  r.dt = c.solver.dt;
+  r.ns_per_step = cell("ns_per_step");
+  if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
+  r.timing = rep;
+  r.div_rms = div_rms;
+  r.valid = valid;
+  r.layout = layout;
+  r.integrator = c.solver.integrator;
+  r.pressure_iterations = pressure_iterations;
+  r.pressure_setup_s = pressure_setup_s;
+  return r;
+}
+
+// Collective: rank 0 writes the files, then the CSV row, so that a row is recorded only for
+// a run whose every output was written; a failure ends every rank with OutputError.
+void write_outputs(const RunRequest& req, const std::string& profile, const std::string& series,
+                   const std::string& centroids, const RunRecord& record) {
+  write_on_root([&] {
+    for (const auto& [path, text] : {std::pair{&req.profile, &profile}, {&req.series, &series},
+                                     {&req.centroids, &centroids}})
+      if (!path->empty()) write_text_file(*path, *text);
+    if (!req.csv.empty()) append_csv(req.csv, record);
+  });
+}
+
 }  // namespace
 
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
@@ -215,39 +258,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   }
 
   const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());
-  if (is_root()) {
-    if (!req.profile.empty()) write_text_file(req.profile, prof);
-    if (!req.series.empty()) write_text_file(req.series, series);
-    if (!req.centroids.empty()) write_text_file(req.centroids, centroid_rows);
-    if (!req.csv.empty()) {
-      RunRecord r;
-      r.experiment = req.experiment;
-      r.method = c.method.name();
-      r.comm = to_string(c.solver.comm);
-      const auto cell = [&](const char* key) {
-        const auto it = c.method.report.find(key);
-        return it == c.method.report.end() ? std::string() : it->second;
-      };
-      r.eps = cell("eps");
-      r.ranks = ranks;
-      r.threads = max_threads();
-      r.px = dec.dims()[0], r.py = dec.dims()[1], r.pz = dec.dims()[2];
-      r.nx = c.domain.cells[0], r.ny = c.domain.cells[1], r.nz = c.domain.cells[2];
-      r.particles = static_cast<long>(particles.size());
-      r.steps = measured;
-      r.dt = c.solver.dt;
-      r.ns_per_step = cell("ns_per_step");
-      if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
-      r.timing = rep;
-      r.div_rms = tail.back().div_rms;
-      r.valid = v.valid;
-      r.layout = layout;
-      r.integrator = c.solver.integrator;
-      r.pressure_iterations = iterations / double(measured);
-      r.pressure_setup_s = solver.pressure().report().setup_seconds;
-      append_csv(req.csv, r);
-    }
-  }
+  out.record = run_record(c, req, dec, layout, particles.size(), rep, tail.back().div_rms, v.valid,
+                          iterations / double(measured), solver.pressure().report().setup_seconds);
+  write_outputs(req, prof, series, centroid_rows, out.record);
   return out;
 }
 

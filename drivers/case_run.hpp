@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "channel_case.hpp"
+#include "run_record.hpp"
 #include "text_file.hpp"
 
 namespace efsi {
@@ -17,7 +18,8 @@ struct RunRequest {
   long total_steps = 2;     // one warm-up step, then total_steps - 1 measured ones
   int every = 10;           // steps between series and centroid rows
   int progress = 0;         // print progress every N steps (0: 20 times in long runs)
-  // Optional outputs; "" for none. Written by rank 0 only after the run finished.
+  // Optional outputs; "" for none. Written by rank 0 only after the run finished, the CSV
+  // row last and only when the others were written.
   std::string series, centroids, profile, csv;
 };
 
@@ -26,9 +28,11 @@ struct RunOutcome {
   // Declared before the solver, which refers to it: members are destroyed in reverse order.
   std::unique_ptr<CartDecomposition> decomp;
   std::unique_ptr<FsiSolver> solver;   // the final state, for drivers that write fields
+  RunRecord record;                    // the CSV row, for drivers that append it themselves
 };
 
-// Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating.
+// Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating;
+// throws OutputError on every rank when one cannot be written after the run.
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
 
 // The scaling drivers' run: validates the case (ConfigError before anything is

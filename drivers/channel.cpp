@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <optional>
 #include <sstream>
 
@@ -79,7 +78,7 @@ int run_calibration(const Options& o, const ChannelCase& c, const std::vector<Pa
     std::ostringstream t;
     t << "iteration,relative_residual\n";
     for (std::size_t m = 0; m < cal.history.size(); ++m) t << m + 1 << ',' << cal.history[m] << '\n';
-    write_text_file(o.series, t.str());
+    write_on_root([&] { write_text_file(o.series, t.str()); });
   }
   return reached ? 0 : 4;
 }

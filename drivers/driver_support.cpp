@@ -9,6 +9,7 @@
 #include "config_error.hpp"
 #include "runtime.hpp"
 #include "stepper.hpp"
+#include "text_file.hpp"
 
 namespace efsi {
 namespace {
@@ -115,6 +116,9 @@ int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>&
   } catch (const ConfigError& e) {
     if (runtime.rank() == 0) std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
     return 2;
+  } catch (const OutputError& e) {
+    if (runtime.rank() == 0) std::fprintf(stderr, "%s: error: %s\n", name.c_str(), e.what());
+    return 5;
   } catch (const BlowUp& e) {
     if (runtime.rank() == 0) std::fprintf(stderr, "%s: %s; nothing recorded as valid\n", name.c_str(), e.what());
     return 3;

@@ -8,35 +8,85 @@
 
 #include <cerrno>
 #include <cstring>
-#include <fstream>
-#include <stdexcept>
 
 #include "config_error.hpp"
 
 namespace efsi {
+namespace {
+
+enum class Writable { yes, no, not_regular };
+
+// Whole files are created beside `path` (write_whole_file), so its directory must take a new
+// entry; an existing special file (a device, a FIFO) is refused: a temporary beside it would
+// land in /dev, and the suite's outputs are meant to be kept.
+Writable probe(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
+  if (::access(dir.c_str(), W_OK) != 0) return Writable::no;
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) return errno == ENOENT ? Writable::yes : Writable::no;
+  if (!S_ISREG(st.st_mode)) return Writable::not_regular;
+  return ::access(path.c_str(), W_OK) == 0 ? Writable::yes : Writable::no;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& reason) {
+  throw std::runtime_error("cannot write " + path + ": " + reason);
+}
+
+// 0, or the errno of the first write that failed.
+int write_all(int fd, std::string_view data) {
+  while (!data.empty()) {
+    const ssize_t w = ::write(fd, data.data(), data.size());
+    if (w < 0 && errno == EINTR) continue;
+    if (w < 0) return errno;
+    if (w == 0) return EIO;
+    data.remove_prefix(static_cast<std::size_t>(w));
+  }
+  return 0;
+}
+
+// 0, or the errno of fsync: a written byte that the disk then refuses (NFS, a full quota) is
+// reported here or at close, not by write().  A special file that cannot sync answers EINVAL.
+int sync_file(int fd) { return ::fsync(fd) == 0 || errno == EINVAL ? 0 : errno; }
+
+// Drops what a failed append left; the append's own error is the one to report, so a failure
+// here adds nothing.
+void cut_back(int fd, off_t size) {
+  while (::ftruncate(fd, size) != 0 && errno == EINTR) {
+  }
+}
+
+}  // namespace
 
 void check_writable(const std::string& path, const char* option) {
   if (path.empty()) return;
-  int rank = 0, ok = 1;
+  int rank = 0, state = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) {
-    const auto slash = path.find_last_of('/');
-    const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-    ok = ::access(dir.c_str(), W_OK) == 0 && (::access(path.c_str(), F_OK) != 0 || ::access(path.c_str(), W_OK) == 0);
-  }
-  MPI_Bcast(&ok, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (!ok) throw ConfigError(std::string(option) + " '" + path + "' cannot be written");
+  if (rank == 0) state = static_cast<int>(probe(path));
+  MPI_Bcast(&state, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  const std::string what = std::string(option) + " '" + path + "'";
+  if (state == static_cast<int>(Writable::no)) throw ConfigError(what + " cannot be written");
+  if (state == static_cast<int>(Writable::not_regular)) throw ConfigError(what + " is not a regular file");
 }
 
-void write_text_file(const std::string& path, const std::string& text) {
-  std::ofstream f(path, std::ios::trunc);
-  f << text;
-  f.close();
-  if (!f) throw std::runtime_error("cannot write " + path);
+void write_whole_file(const std::string& path, const std::vector<std::string_view>& pieces) {
+  // The pid keeps concurrent runs writing the same final name apart; the last rename wins.
+  const std::string temp = path + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) fail(path, "cannot create " + temp + ": " + std::strerror(errno));
+  int err = 0;
+  for (std::size_t p = 0; p < pieces.size() && !err; ++p) err = write_all(fd, pieces[p]);
+  if (!err) err = sync_file(fd);
+  if (::close(fd) != 0 && !err) err = errno;
+  if (!err && ::rename(temp.c_str(), path.c_str()) != 0) err = errno;
+  if (err) {
+    ::unlink(temp.c_str());
+    fail(path, std::strerror(err));
+  }
 }
 
 void append_locked(const std::string& path, const std::string& header, const std::string& rows) {
-  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0644);
   if (fd < 0) throw std::runtime_error("cannot open " + path + ": " + std::strerror(errno));
   if (::flock(fd, LOCK_EX) != 0) {
     const int e = errno;
@@ -44,22 +94,31 @@ void append_locked(const std::string& path, const std::string& header, const std
     throw std::runtime_error("cannot lock " + path + ": " + std::strerror(e));
   }
   struct stat st {};
-  ::fstat(fd, &st);
-  const std::string out = st.st_size == 0 ? header + rows : rows;
-  std::size_t done = 0;
-  while (done < out.size()) {
-    const ssize_t w = ::write(fd, out.data() + done, out.size() - done);
-    if (w < 0 && errno == EINTR) continue;
-    if (w <= 0) {
-      const int e = errno;
-      ::flock(fd, LOCK_UN);
-      ::close(fd);
-      throw std::runtime_error("cannot write " + path + ": " + std::strerror(e));
+  int err = ::fstat(fd, &st) == 0 ? 0 : errno;
+  if (!err) err = write_all(fd, st.st_size == 0 ? header + rows : rows);
+  if (!err) err = sync_file(fd);
+  // Still under the lock: a reader never sees the partial row, and the next writer appends
+  // after whole rows only.
+  if (err && S_ISREG(st.st_mode)) cut_back(fd, st.st_size);
+  if (::close(fd) != 0 && !err) err = errno;  // also releases the lock
+  if (err) fail(path, std::strerror(err));
+}
+
+void write_on_root(const std::function<void()>& write) {
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::string message;
+  if (rank == 0) try {
+      write();
+    } catch (const std::exception& e) {
+      message = *e.what() ? e.what() : "an output could not be written";
     }
-    done += static_cast<std::size_t>(w);
-  }
-  ::flock(fd, LOCK_UN);
-  if (::close(fd) != 0) throw std::runtime_error("cannot write " + path + ": " + std::strerror(errno));
+  int length = static_cast<int>(message.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (length == 0) return;
+  message.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(message.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+  throw OutputError(message);
 }
 
 }  // namespace efsi

@@ -1,23 +1,45 @@
 #pragma once
-// Every text file the suite writes goes through here (docs/architecture.md, "Adding an output
+// Every file the suite writes goes through here (docs/architecture.md, "Adding an output
 // format"): whole files (series, centroids, profiles, the calibration's history, the
-// accuracy comparison) and rows appended under a lock (the CSV run record), each write
-// checked, a failure an exception naming the file and the reason.
+// accuracy comparison, VTK images) replace their final name only once complete, and rows
+// appended under a lock (the CSV run record); each write checked, a failure an exception
+// naming the file and the reason.
+#include <functional>
+#include <stdexcept>
 #include <string>
+#include <string_view>
+#include <vector>
 
 namespace efsi {
 
+// An output that could not be written at the end of a run, raised alike on every rank by
+// write_on_root; drivers print what() as one line and exit with status 5.
+class OutputError : public std::runtime_error {
+ public:
+  explicit OutputError(const std::string& what) : std::runtime_error(what) {}
+};
+
 // Collective over MPI_COMM_WORLD: rank 0 checks that `path` can be created or written and
-// every rank throws ConfigError ("--series 'PATH' cannot be written") if not; creates
-// nothing.  An empty path passes.
+// every rank throws ConfigError ("--series 'PATH' cannot be written", "... is not a regular
+// file") if not; creates nothing.  An empty path passes.
 void check_writable(const std::string& path, const char* option);
 
-// Writes (truncates) `path` with `text`; throws std::runtime_error naming the file.
-void write_text_file(const std::string& path, const std::string& text);
+// `pieces`, one after another, become the whole of `path`: written to a temporary beside it,
+// synced, then renamed onto it, so that `path` holds either its old content or all of the new
+// one, never part of it.  Throws std::runtime_error naming the file and the reason, after
+// removing the temporary.
+void write_whole_file(const std::string& path, const std::vector<std::string_view>& pieces);
+
+inline void write_text_file(const std::string& path, std::string_view text) { write_whole_file(path, {text}); }
 
 // Appends `rows` to `path` under an exclusive lock (flock), with `header` first when the file
 // is new or empty, in one write, so that concurrent writers never interleave or lose a row;
-// throws std::runtime_error naming the file and the reason.
+// a failed append is cut off again, so that no partial row stays.  Throws std::runtime_error
+// naming the file and the reason.
 void append_locked(const std::string& path, const std::string& header, const std::string& rows);
+
+// Collective over MPI_COMM_WORLD: runs `write` on rank 0; when it throws, every rank throws
+// OutputError with rank 0's message, so that a failed output ends every rank alike.
+void write_on_root(const std::function<void()>& write);
 
 }  // namespace efsi

@@ -2,9 +2,11 @@
 
 #include <bit>
 #include <cstdint>
-#include <fstream>
 #include <sstream>
 #include <stdexcept>
+#include <string_view>
+
+#include "text_file.hpp"
 
 namespace efsi {
 
@@ -30,15 +32,19 @@ void write_vti(const std::string& path, const Domain& domain,
   }
   head << "      </CellData>\n    </Piece>\n  </ImageData>\n  <AppendedData encoding=\"raw\">\n   _";
 
-  std::ofstream f(path, std::ios::binary | std::ios::trunc);
-  f << head.str();
+  // Each array is preceded by its size in bytes; the pieces point into `sizes` and the
+  // arrays, so the image is never copied into one buffer.
+  std::vector<std::uint64_t> sizes;
+  sizes.reserve(arrays.size());
+  const std::string head_text = head.str();
+  std::vector<std::string_view> pieces{head_text};
   for (const auto& [name, values] : arrays) {
-    const std::uint64_t bytes = values->size() * sizeof(double);
-    f.write(reinterpret_cast<const char*>(&bytes), sizeof bytes);
-    f.write(reinterpret_cast<const char*>(values->data()), static_cast<std::streamsize>(bytes));
+    sizes.push_back(values->size() * sizeof(double));
+    pieces.emplace_back(reinterpret_cast<const char*>(&sizes.back()), sizeof(std::uint64_t));
+    pieces.emplace_back(reinterpret_cast<const char*>(values->data()), sizes.back());
   }
-  f << "\n  </AppendedData>\n</VTKFile>\n";
-  if (!f) throw std::runtime_error("cannot write " + path);
+  pieces.emplace_back("\n  </AppendedData>\n</VTKFile>\n");
+  write_whole_file(path, pieces);
 }
 
 }  // namespace efsi

@@ -10,7 +10,8 @@ namespace efsi {
 
 // Writes `arrays` (name, global cell values x fastest then y then z) as cell data of one
 // image covering the domain, raw little-endian Float64 in the appended section.
-// Throws std::runtime_error naming the file when it cannot be written.
+// Written whole or not at all (write_whole_file); throws std::runtime_error naming the file
+// and the reason when it cannot be written.
 void write_vti(const std::string& path, const Domain& domain,
                const std::vector<std::pair<std::string, const std::vector<double>*>>& arrays);
 
