@@ -8,6 +8,7 @@ Standard library only. BIN_DIR is set by main() from --bin-dir or EFSI_BIN_DIR."
 import atexit
 import csv
 import datetime
+import errno
 import io
 import math
 import os
@@ -28,6 +29,9 @@ MPIEXEC = os.environ.get("EFSI_MPIEXEC") or shutil.which("mpiexec") or shutil.wh
 # machine), and how long to wait for a run that is known to hang before killing it.
 RUN_TIMEOUT = 180
 HANG_TIMEOUT = 10
+
+# The exit status of a run whose outputs could not be written at the end (drivers/driver_support.hpp).
+EXIT_OUTPUT_FAILED = 5
 
 SECTION8_COLUMNS = (
     "experiment,method,comm,eps,ranks,threads,px,py,pz,nx,ny,nz,particles,steps,dt,"
@@ -192,6 +196,46 @@ class DriverTestCase(unittest.TestCase):
 
     def path(self, name):
         return os.path.join(self.dir, name)
+
+    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT):
+        """Runs with every rank's exit status recorded; mpiexec is told not to abort the job
+        when the first rank exits, so that each rank reports its own status."""
+        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
+        self.addCleanup(shutil.rmtree, status_dir, True)
+        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir,
+                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
+                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"}, program=self.program)
+        statuses = {}
+        for name in sorted(os.listdir(status_dir)):
+            with open(os.path.join(status_dir, name)) as f:
+                statuses[name] = f.read().strip()
+        return res, statuses
+
+    def small_tmpfs(self, full=False):
+        """A 64 KiB tmpfs mounted for this test (unmounted in its cleanup), filled up to the
+        last byte with `full`; skips the test where mounting is not permitted."""
+        if os.geteuid() != 0:
+            self.skipTest("mounting a 64 KiB tmpfs needs root")
+        mnt = tempfile.mkdtemp(prefix="efsi_tmpfs_")
+        self.addCleanup(os.rmdir, mnt)
+        res = subprocess.run(["mount", "-t", "tmpfs", "-o", "size=64k", "tmpfs", mnt], capture_output=True, text=True)
+        if res.returncode != 0:
+            self.skipTest("cannot mount a tmpfs: %s" % res.stderr.strip())
+        self.addCleanup(subprocess.run, ["umount", mnt], check=True)
+        if full:
+            self.fill(mnt)
+        return mnt
+
+    @staticmethod
+    def fill(directory):
+        """Fills the file system of `directory` with a file named "filler"."""
+        with open(os.path.join(directory, "filler"), "wb", buffering=0) as f:
+            try:
+                while True:
+                    f.write(b"\0" * 4096)
+            except OSError as e:
+                if e.errno != errno.ENOSPC:
+                    raise
 
     def run_ok(self, args, ranks=1, threads=1, **kw):
         res = run(args, ranks=ranks, cwd=self.dir, threads=threads, program=self.program, **kw)

@@ -148,20 +148,6 @@ class BadInput(ChannelTestCase):
                 self.assertEqual(res.rc, 2, "channel %s:\n%s" % (" ".join(full), res))
                 self.assertEqual(snapshot(self.dir), before, "channel %s created or changed a file" % " ".join(full))
 
-    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT):
-        """Runs with every rank's exit status recorded; mpiexec is told not to abort the job
-        when the first rank exits, so that each rank reports its own status."""
-        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
-        self.addCleanup(shutil.rmtree, status_dir, True)
-        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir,
-                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
-                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"})
-        statuses = {}
-        for name in sorted(os.listdir(status_dir)):
-            with open(os.path.join(status_dir, name)) as f:
-                statuses[name] = f.read().strip()
-        return res, statuses
-
     def test_bad_input_on_two_ranks_every_rank_exits_2(self):
         cases = [
             (SMALL + ["--no-such-option"], [r"--no-such-option"]),
@@ -440,6 +426,98 @@ class OutputFiles(ChannelTestCase):
         self.check_row(rows[0], rows[2], 2, 1, (8, 32, 8), 5, 0, "sync", (1, 2, 1), experiment="layered")
 
 
+class FailedOutputs(ChannelTestCase):
+    """Issue 12: an output that cannot be written ends the run on every rank with one line
+    naming the file and the reason, exit status 5 (2 when it is found before the run); no
+    half file under the final name, no temporary left, an earlier file kept, and no CSV row."""
+
+    def check_failed(self, res, statuses, ranks, path, reason=r"No space left on device", status=EXIT_OUTPUT_FAILED):
+        what = "on %d rank(s)" % ranks
+        self.assertFalse(res.timed_out, "%s hung:\n%s" % (what, res))
+        lines = res.err.splitlines()
+        self.assertEqual(len(lines), 1, "%s: expected one line on stderr:\n%s" % (what, res))
+        self.assertRegex(lines[0], r"^channel: error: .*%s.*%s" % (re.escape(path), reason), what)
+        if ranks == 1:
+            self.assertEqual(res.rc, status, "%s:\n%s" % (what, res))
+        else:
+            self.assertEqual(statuses, {"rank0": str(status), "rank1": str(status)}, "%s:\n%s" % (what, res))
+
+    def run_failing(self, args, ranks):
+        if ranks == 1:
+            return run(args, cwd=self.dir), None
+        return self.run_on_two_ranks(args)
+
+    def test_series_over_a_small_tmpfs(self):
+        # The user's case: 700 rows of --every 1 (about 75 kB) do not fit in 64 KiB.
+        for ranks in (1, 2):
+            with self.subTest(ranks=ranks):
+                fs = self.small_tmpfs()
+                series = os.path.join(fs, "s.csv")
+                args = ["--cells", "16", "--particles", "0", "--steps", "700", "--every", "1",
+                        "--series", series, "--csv", "run.csv"]
+                res, statuses = self.run_failing(args, ranks)
+                self.check_failed(res, statuses, ranks, series)
+                self.assertEqual(os.listdir(fs), [], "a half file or a temporary stays behind")
+                self.assertFalse(os.path.exists(self.path("run.csv")), "a row was recorded for a failed run")
+
+    def test_profile_and_centroids_into_a_full_tmpfs(self):
+        for option in ("--profile", "--centroids"):
+            for ranks in (1, 2):
+                with self.subTest(option=option, ranks=ranks):
+                    fs = self.small_tmpfs(full=True)
+                    out = os.path.join(fs, "out.csv")
+                    res, statuses = self.run_failing(WITH_PARTICLES + [option, out, "--csv", "run.csv"], ranks)
+                    self.check_failed(res, statuses, ranks, out)
+                    self.assertEqual(os.listdir(fs), ["filler"])
+                    self.assertFalse(os.path.exists(self.path("run.csv")), "a row was recorded for a failed run")
+
+    def test_good_file_survives_a_failed_rewrite(self):
+        fs = self.small_tmpfs()
+        series = os.path.join(fs, "s.csv")
+        self.run_ok(SMALL + ["--every", "1", "--series", series])
+        with open(series, "rb") as f:
+            good = f.read()
+        self.fill(fs)
+        res, statuses = self.run_failing(SMALL + ["--every", "1", "--series", series], 2)
+        self.check_failed(res, statuses, 2, series)
+        with open(series, "rb") as f:
+            self.assertEqual(f.read(), good, "the earlier series was clobbered")
+        self.assertEqual(sorted(os.listdir(fs)), ["filler", "s.csv"])
+
+    def test_special_files_never_exit_0(self):
+        # /dev/full is refused before the run (not a regular file: no temporary in /dev);
+        # /proc/version passes that check as root but cannot be written, so the run fails at
+        # the end.  Either way: non-zero, one line naming the file.
+        for path in ("/dev/full", "/proc/version"):
+            for option in ("--profile", "--series", "--csv"):
+                with self.subTest(path=path, option=option):
+                    res = run(SMALL + [option, path], cwd=self.dir)
+                    self.assertFalse(res.timed_out, str(res))
+                    self.assertIn(res.rc, (2, EXIT_OUTPUT_FAILED), str(res))
+                    lines = res.err.splitlines()
+                    self.assertEqual(len(lines), 1, str(res))
+                    self.assertRegex(lines[0], r"^channel: error: .*%s" % re.escape(path))
+                    if path == "/dev/full":
+                        self.assertIn("is not a regular file", lines[0])
+                    self.assertEqual([n for n in os.listdir(os.path.dirname(path)) if ".tmp." in n], [])
+
+    def test_unwritable_directory_for_every_output(self):
+        with open(self.path("a_file"), "w") as f:
+            f.write("not a directory\n")
+        runs = [SMALL + [option] for option in ("--profile", "--series", "--centroids", "--csv")]
+        runs.append(SMALL + ["--method", "sor", "--calibrate", "--series"])
+        for args in runs:
+            for path in ("no_such_dir/out.csv", "a_file/out.csv"):
+                with self.subTest(args=" ".join(args), path=path):
+                    before = snapshot(self.dir)
+                    res = run(args + [path], cwd=self.dir)
+                    self.assertEqual(res.rc, 2, str(res))
+                    lines = res.err.splitlines()
+                    self.assertEqual(len(lines), 1, str(res))
+                    self.assertRegex(lines[0], r"^channel: error: .*'%s' cannot be written" % re.escape(path))
+                    self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
+
+
 class DriverRegressions(ChannelTestCase):
     """Bugs these tests found in the driver, fixed since: each test asserts the right
     behaviour so that they stay fixed."""
@@ -448,17 +526,9 @@ class DriverRegressions(ChannelTestCase):
         # Was: channel.cpp probed the output paths on rank 0 only (`if (is_root())
         # check_writable(...)`): rank 0 exits 2 and waits in MPI_Finalize while rank 1 goes on
         # into MPI_Cart_create and waits for it forever.
-        args = SMALL + ["--csv", "no_such_dir/run.csv"]
-        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
-        self.addCleanup(shutil.rmtree, status_dir, True)
-        res = run(args, ranks=2, cwd=self.dir, timeout=HANG_TIMEOUT, rank_status_dir=status_dir,
-                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
-                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"})
+        res, statuses = self.run_on_two_ranks(SMALL + ["--csv", "no_such_dir/run.csv"], timeout=HANG_TIMEOUT)
         self.assertFalse(res.timed_out, "2 ranks with an unwritable --csv hang:\n%s" % res)
-        self.assertEqual(sorted(os.listdir(status_dir)), ["rank0", "rank1"])
-        for name in ("rank0", "rank1"):
-            with open(os.path.join(status_dir, name)) as f:
-                self.assertEqual(f.read().strip(), "2", name)
+        self.assertEqual(statuses, {"rank0": "2", "rank1": "2"})
         self.assertEqual(len(res.err.splitlines()), 1, str(res))
 
     def test_unwritable_output_creates_no_other_file(self):
