@@ -18,7 +18,7 @@ import subprocess
 import sys
 
 import driver_harness
-from driver_harness import DriverTestCase, read_table, run, snapshot
+from driver_harness import EXIT_OUTPUT_FAILED, DriverTestCase, read_table, run, snapshot
 
 PAPER_DX = 3.6 / 64
 
@@ -215,6 +215,46 @@ class BadOptions(DriverTestCase):
                 self.assertTrue(lines[0].startswith(program + ": "), lines[0])
                 self.assertRegex(lines[0], pattern)
                 self.assertEqual(snapshot(self.dir), before, "a rejected run writes nothing")
+
+
+class UnwritableOutputs(DriverTestCase):
+    """Issue 12: every output option of every experiment driver is checked before the run
+    (exit 2, one line, nothing created); a VTK image that does not fit fails the run (exit
+    5) with no half image and no CSV row."""
+
+    CASES = [
+        ("weak_scaling", ["--csv"]),
+        ("strong_scaling", ["--csv"]),
+        ("accuracy", ["--csv"]),
+        ("accuracy", ["--out"]),
+    ]
+
+    def test_unwritable_paths_exit_2(self):
+        with open(self.path("a_file"), "w") as f:
+            f.write("not a directory\n")
+        for program, option in self.CASES:
+            for path in ("no_such_dir/x.csv", "a_file/x.csv"):
+                with self.subTest(program=program, option=option, path=path):
+                    before = snapshot(self.dir)
+                    res = run(option + [path], cwd=self.dir, program=program)
+                    self.assertFalse(res.timed_out, str(res))
+                    self.assertEqual(res.rc, 2, str(res))
+                    lines = res.err.splitlines()
+                    self.assertEqual(len(lines), 1, str(res))
+                    self.assertRegex(lines[0], r"^%s: error: .*%s" % (program, re.escape(path)))
+                    self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
+
+    def test_image_over_a_small_tmpfs(self):
+        fs = self.small_tmpfs()
+        # 32^3 doubles (256 KiB) do not fit in 64 KiB; the series and centroids before it do.
+        res = run(["--cells", "32", "--length", "3.6", "--t-end", "0.002", "--every", "1", "--methods", "acm",
+                   "--out", fs, "--csv", "acc.csv"], cwd=self.dir, program="accuracy")
+        self.assertFalse(res.timed_out, str(res))
+        self.assertEqual(res.rc, EXIT_OUTPUT_FAILED, str(res))
+        image = os.path.join(fs, "phi-acm.vti")
+        self.assertRegex(res.err, r"^accuracy: error: cannot write %s: No space left on device\n$" % re.escape(image))
+        self.assertEqual(sorted(os.listdir(fs)), ["centroids-acm.csv", "series-acm.csv"])
+        self.assertFalse(os.path.exists(self.path("acc.csv")), "a row was recorded for a failed run")
 
 
 if __name__ == "__main__":
