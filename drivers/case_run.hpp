@@ -19,6 +19,10 @@ struct RunRequest {
   int progress = 0;         // print progress every N steps (0: 20 times in long runs)
   // Optional outputs; "" for none. Written by rank 0 only after the run finished.
   std::string series, centroids, profile, csv;
+  // --force-memory: run even when the memory estimate exceeds the node's MemAvailable.
+  bool force_memory = false;
+  // The caller ran check_node_memory itself (accuracy: for all its methods at once).
+  bool memory_checked = false;
 };
 
 struct RunOutcome {
@@ -28,13 +32,15 @@ struct RunOutcome {
   std::unique_ptr<FsiSolver> solver;   // the final state, for drivers that write fields
 };
 
-// Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating.
+// Collective over MPI_COMM_WORLD. Checks that every output is writable and that the node
+// holds the solver (check_node_memory) before allocating.
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
 
 // The scaling drivers' run: validates the case (ConfigError before anything is
 // allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`
-// ("" for none). Returns the exit status: 0 when the run's checks passed, 4 otherwise.
+// ("" for none); `force_memory` as in RunRequest. Returns the exit status: 0 when the run's
+// checks passed, 4 otherwise.
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
-                     const std::string& csv);
+                     const std::string& csv, bool force_memory);
 
 }  // namespace efsi

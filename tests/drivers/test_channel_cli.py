@@ -148,20 +148,6 @@ class BadInput(ChannelTestCase):
                 self.assertEqual(res.rc, 2, "channel %s:\n%s" % (" ".join(full), res))
                 self.assertEqual(snapshot(self.dir), before, "channel %s created or changed a file" % " ".join(full))
 
-    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT):
-        """Runs with every rank's exit status recorded; mpiexec is told not to abort the job
-        when the first rank exits, so that each rank reports its own status."""
-        status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
-        self.addCleanup(shutil.rmtree, status_dir, True)
-        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir,
-                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
-                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"})
-        statuses = {}
-        for name in sorted(os.listdir(status_dir)):
-            with open(os.path.join(status_dir, name)) as f:
-                statuses[name] = f.read().strip()
-        return res, statuses
-
     def test_bad_input_on_two_ranks_every_rank_exits_2(self):
         cases = [
             (SMALL + ["--no-such-option"], [r"--no-such-option"]),
@@ -438,6 +424,60 @@ class OutputFiles(ChannelTestCase):
                 self.assertAlmostEqual(a_row[c], b_row[c], delta=1e-12 + 1e-9 * abs(a_row[c]))
         _, rows = read_table(self.path("layered.csv"))
         self.check_row(rows[0], rows[2], 2, 1, (8, 32, 8), 5, 0, "sync", (1, 2, 1), experiment="layered")
+
+
+class NodeMemory(ChannelTestCase):
+    """A run the node cannot hold is refused before anything is allocated (check_node_memory):
+    the estimate summed over the node's ranks against MemAvailable, one line, exit 2 on every
+    rank; --force-memory runs it anyway."""
+
+    TINY_KB = 1000  # MemAvailable of the fake node: under the 16^3 case's few MB
+
+    def test_refused_on_one_and_two_ranks_nothing_written(self):
+        env = self.fake_node(self.TINY_KB)
+        args = SMALL + ["--csv", "run.csv", "--series", "series.csv", "--profile", "profile.csv"]
+        before = snapshot(self.dir)
+        res = run(args, cwd=self.dir, extra_env=env)
+        need, per_rank, available = self.check_memory_refusal(res)
+        self.assertAlmostEqual(available, self.TINY_KB / 2**20, delta=1e-3 * available)
+        self.assertEqual(res.out, "", "a refused run prints no banner")
+        res, statuses = self.run_on_two_ranks(args, timeout=60, extra_env=env)
+        _, per_rank2, _ = self.check_memory_refusal(res, ranks=2, statuses=statuses)
+        self.assertLess(per_rank2, per_rank, "two ranks hold half the box each")
+        self.assertEqual(snapshot(self.dir), before, "a refused run writes nothing")
+
+    def test_force_memory_runs_anyway(self):
+        env = self.fake_node(self.TINY_KB)
+        for n, ranks in enumerate((1, 2), start=1):
+            with self.subTest(ranks=ranks):
+                res = self.run_ok(SMALL + ["--force-memory", "--csv", "run.csv"], ranks=ranks, extra_env=env)
+                self.assertRegex(res.out, r"warning: the run needs \S+ GiB on this node .*running anyway "
+                                          r"\(--force-memory\)")
+                _, rows = read_table(self.path("run.csv"))
+                self.assertEqual(len(rows), n + 1)
+
+    def test_calibration_is_checked_too(self):
+        args = ["--cells", "32", "--length", "3.6", "--steps", "1", "--method", "sor", "--calibrate"]
+        self.check_memory_refusal(run(args, cwd=self.dir, extra_env=self.fake_node(self.TINY_KB)))
+
+    def test_unreadable_meminfo_warns_and_runs(self):
+        # No MemAvailable (no file; a kernel before 3.14): nothing to refuse on, one warning.
+        for env in ({"EFSI_MEMINFO": self.path("no_such_meminfo")}, self.fake_node(None)):
+            with self.subTest(meminfo=env["EFSI_MEMINFO"]):
+                res = self.run_ok(SMALL, extra_env=env)
+                self.assertEqual(res.out.count("warning: MemAvailable not readable on 1 of 1 node(s)"), 1, res.out)
+
+    def test_full_strong_scaling_box_on_one_rank_is_refused_quickly(self):
+        # The real /proc/meminfo: 2048 x 1024 x 1024 cells need some 650 GiB on one rank.
+        with open("/proc/meminfo") as f:
+            available_kb = int(re.search(r"MemAvailable:\s+(\d+) kB", f.read()).group(1))
+        if available_kb > 2**30:
+            self.skipTest("this node has over 1 TiB available")
+        res = run(["--cells", "2048,1024,1024", "--steps", "1"], cwd=self.dir, timeout=60)
+        need, per_rank, available = self.check_memory_refusal(res)
+        self.assertGreater(need, 100)
+        self.assertAlmostEqual(available, available_kb / 2**20, delta=0.05 * available + 0.1)
+        self.assertLess(res.seconds, 30, "refused before allocating")
 
 
 class DriverRegressions(ChannelTestCase):
