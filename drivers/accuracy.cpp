@@ -15,6 +15,7 @@
 #include "config_error.hpp"
 #include "driver_support.hpp"
 #include "field_gather.hpp"
+#include "memory_estimate.hpp"
 #include "method_options.hpp"
 #include "runtime.hpp"
 #include "vtk_image.hpp"
@@ -28,6 +29,7 @@ struct Options {
   double length = 7.2, G = 50.0, dt = 5e-4, t_end = 20.0;
   std::optional<int> every, particles;
   std::string methods = "acm,fft", out = ".", csv;
+  bool force_memory = false;
 };
 
 // Largest distance from a region of `a` to the nearest region of `b`, periodic in x and z.
@@ -81,12 +83,19 @@ int run(const Options& o) {
   check_writable(o.csv, "--csv");
 
   // Every method's set-up is checked before the first one runs: a run of hours must not be
-  // followed by a configuration error.
+  // followed by a configuration error. Every method's solver stays alive to the comparison at
+  // the end, so the node must hold them all at once.
   std::vector<std::vector<Particle>> particles;
+  std::size_t bytes = 0;
   for (const MethodChoice& m : methods) {
     choose_method(c, m);
     particles.push_back(validate_case(c, ranks, double(total) * c.solver.dt));
+    const Int3 dims = rank_grid(c, ranks);
+    Int3 local{};
+    for (int a = 0; a < 3; ++a) local[a] = c.domain.cells[a] / dims[a];
+    bytes += estimate_rank_memory(c, local, dims).total();
   }
+  check_node_memory(bytes, o.force_memory);
 
   std::vector<RunOutcome> runs;
   std::vector<std::vector<SolidRegion>> regions;
@@ -103,6 +112,11 @@ int run(const Options& o) {
     req.centroids = dir + "/centroids-" + tag + ".csv";
     // The rows are appended at the end, after comparison.txt: none is recorded for a run
     // whose outputs were not all written.
+    //
+    // The node's memory was checked above for every method together. Checked again here,
+    // against what the earlier methods left available, the estimate's margin alone could
+    // refuse a later method after hours of the first.
+    req.memory_checked = true;
     runs.push_back(run_case(c, particles[k], req));
     const CartDecomposition& dec = *runs.back().decomp;
     const Field& phi = runs.back().solver->state().phi();
@@ -162,5 +176,6 @@ int main(int argc, char** argv) {
   app.add_option("--out", o.out, "existing directory for the outputs")->capture_default_str();
   app.add_option("--csv", o.csv, "append one result row per method to this CSV file");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");
+  add_force_memory_flag(app, o.force_memory);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

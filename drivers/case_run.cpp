@@ -13,6 +13,7 @@
 #include "config_error.hpp"
 #include "driver_support.hpp"
 #include "hybrid_layout.hpp"
+#include "memory_estimate.hpp"
 #include "run_record.hpp"
 #include "runtime.hpp"
 #include "text_file.hpp"
@@ -173,6 +174,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   RunOutcome out;
   out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const CartDecomposition& dec = *out.decomp;
+  // Before the banner and the first field: a case too big for the node is refused, not
+  // started and killed (or swapping) once it has taken the node's memory.
+  if (!req.memory_checked) check_node_memory(c, dec.local(), dec.dims(), req.force_memory);
   const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
   if (is_root()) {
     std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s\n",
@@ -265,7 +269,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 }
 
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
-                     const std::string& csv) {
+                     const std::string& csv, bool force_memory) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   const std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
@@ -274,6 +278,7 @@ int run_scaling_case(const ChannelCase& c, const std::string& program, const std
   req.experiment = experiment;
   req.total_steps = steps + 1;
   req.csv = csv;
+  req.force_memory = force_memory;
   return run_case(c, particles, req).valid ? 0 : 4;
 }
 

@@ -21,6 +21,10 @@ struct RunRequest {
   // Optional outputs; "" for none. Written by rank 0 only after the run finished, the CSV
   // row last and only when the others were written.
   std::string series, centroids, profile, csv;
+  // --force-memory: run even when the memory estimate exceeds the node's MemAvailable.
+  bool force_memory = false;
+  // The caller ran check_node_memory itself (accuracy: for all its methods at once).
+  bool memory_checked = false;
 };
 
 struct RunOutcome {
@@ -31,14 +35,16 @@ struct RunOutcome {
   RunRecord record;                    // the CSV row, for drivers that append it themselves
 };
 
-// Collective over MPI_COMM_WORLD. Checks that every output is writable before allocating;
-// throws OutputError on every rank when one cannot be written after the run.
+// Collective over MPI_COMM_WORLD. Checks that every output is writable and that the node
+// holds the solver (check_node_memory) before allocating; throws OutputError on every rank
+// when one cannot be written after the run.
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
 
 // The scaling drivers' run: validates the case (ConfigError before anything is
 // allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`
-// ("" for none). Returns the exit status: 0 when the run's checks passed, 4 otherwise.
+// ("" for none); `force_memory` as in RunRequest. Returns the exit status: 0 when the run's
+// checks passed, 4 otherwise.
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
-                     const std::string& csv);
+                     const std::string& csv, bool force_memory);
 
 }  // namespace efsi

@@ -16,6 +16,7 @@
 #include "method_options.hpp"
 #include "runtime.hpp"
 #include "calibration.hpp"
+#include "memory_estimate.hpp"
 #include "method_registry.hpp"
 
 using namespace efsi;
@@ -31,7 +32,7 @@ struct Options {
   long steps = 50;
   int every = 10, progress = 0;
   std::string profile, series, centroids, csv;
-  bool calibrate = false;
+  bool calibrate = false, force_memory = false;
   int max_sweeps = 20000;
 };
 
@@ -51,6 +52,7 @@ int run_calibration(const Options& o, const ChannelCase& c, const std::vector<Pa
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   CartDecomposition dec(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
+  check_node_memory(calibration_memory(c, dec.local(), dec.dims()), o.force_memory);
   const std::optional<double> given = o.m.method_values.at("--eps");
   std::vector<double> eps;
   if (given) eps.push_back(*given);
@@ -145,6 +147,7 @@ int run(const Options& o) {
   req.every = o.every;
   req.progress = o.progress;
   req.series = o.series, req.centroids = o.centroids, req.profile = o.profile, req.csv = o.csv;
+  req.force_memory = o.force_memory;
   return run_case(c, particles, req).valid ? 0 : 4;
 }
 
@@ -178,5 +181,6 @@ int main(int argc, char** argv) {
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   app.add_option("--progress", o.progress, "print progress every N steps (default: 20 times in long runs)");
   app.add_option("--velocity-limit", o.velocity_limit, "blow-up bound (default: 100 x laminar centre velocity)");
+  add_force_memory_flag(app, o.force_memory);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

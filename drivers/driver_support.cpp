@@ -90,6 +90,10 @@ std::array<double, 3> parse_double3(const std::string& text, const std::string& 
   return parse3<double>(text, option, [](const std::string& s, std::size_t* u) { return std::stod(s, u); });
 }
 
+void add_force_memory_flag(CLI::App& app, bool& force_memory) {
+  app.add_flag("--force-memory", force_memory, "run even when the memory estimate exceeds what the node has available");
+}
+
 bool is_root() {
   int r = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &r);

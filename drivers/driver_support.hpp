@@ -22,6 +22,9 @@ std::array<double, 3> parse_double3(const std::string& text, const std::string& 
 // one line, exit 5; anything else -> one line per failing rank and MPI_Abort, exit 1.
 int run_driver(int argc, char** argv, CLI::App& app, const std::function<int()>& body);
 
+// --force-memory, for every driver that allocates a case (check_node_memory).
+void add_force_memory_flag(CLI::App& app, bool& force_memory);
+
 // Rank 0 of MPI_COMM_WORLD.
 bool is_root();
 

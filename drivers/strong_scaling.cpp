@@ -24,12 +24,10 @@ struct Options {
   MethodOptions m;
   int scale = 1;
   std::optional<long> steps;
-  bool dry_run = false;
+  bool dry_run = false, force_memory = false;
   std::optional<int> dry_ranks;
   std::string decomp, csv;
 };
-
-double gib(double bytes) { return bytes / (1024.0 * 1024.0 * 1024.0); }
 
 int dry_run(const ChannelCase& c, int ranks, std::size_t particles) {
   const Int3 dims = rank_grid(c, ranks);
@@ -71,7 +69,7 @@ int run(const Options& o) {
     return dry_run(c, *o.dry_ranks, static_cast<std::size_t>(c.particles));
   }
   if (o.dry_ranks) throw ConfigError("--ranks applies to --dry-run only (a run uses the ranks it is started on)");
-  return run_scaling_case(c, "strong_scaling", "strong", steps, o.csv);
+  return run_scaling_case(c, "strong_scaling", "strong", steps, o.csv, o.force_memory);
 }
 
 }  // namespace
@@ -91,5 +89,6 @@ int main(int argc, char** argv) {
   app.add_flag("--dry-run", o.dry_run, "print decomposition, local block and memory per rank for --ranks, then exit");
   app.add_option("--ranks", o.dry_ranks, "rank count for --dry-run");
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
+  add_force_memory_flag(app, o.force_memory);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

@@ -6,10 +6,18 @@
 #include <string>
 
 #include "config_error.hpp"
+#include "memory_estimate.hpp"
 #include "method_spec.hpp"
 
 namespace efsi {
 namespace {
+
+// The case advanced to the developed state: c with the exact FFT SMAC.
+ChannelCase reference_case(const ChannelCase& c) {
+  ChannelCase ref = c;
+  ref.method = configure_method("fft", {}, c.solver.cn_sweeps);
+  return ref;
+}
 
 double rms_owned(const Field& f, const CartDecomposition& decomp) {
   const Int3 n = f.n();
@@ -27,9 +35,7 @@ Calibration calibrate(const ChannelCase& c, const CartDecomposition& decomp, con
                       long warmup, const std::vector<double>& eps, int max_iterations) {
   auto counter = c.method.spec->iteration_counter(decomp, c.domain);
   if (!counter) throw ConfigError("method " + c.method.name() + " has no iteration count to calibrate");
-  ChannelCase ref = c;
-  ref.method = configure_method("fft", {}, c.solver.cn_sweeps);
-  auto solver = build_solver(ref, decomp, particles);
+  auto solver = build_solver(reference_case(c), decomp, particles);
   solver->impose_laminar_flow();
   for (long s = 0; s <= warmup; ++s) solver->step();
   solver->complete_exchange();
@@ -74,6 +80,11 @@ Calibration calibrate(const ChannelCase& c, const CartDecomposition& decomp, con
   MPI_Allreduce(local, maxes, 2, MPI_DOUBLE, MPI_MAX, decomp.comm());
   out.fft_difference = maxes[1] > 0 ? maxes[0] / maxes[1] : 0.0;
   return out;
+}
+
+std::size_t calibration_memory(const ChannelCase& c, const Int3& local, const Int3& dims) {
+  return estimate_rank_memory(reference_case(c), local, dims).total() +
+         static_cast<std::size_t>(c.method.spec->extra_bytes(local, dims));
 }
 
 }  // namespace efsi

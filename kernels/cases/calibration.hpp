@@ -9,6 +9,7 @@
 // started to deform and the pressure has developed), on one rank.  The right-hand side is
 // D*/dt of the next step; the method iterates from dp = 0, as every one of its steps does,
 // and counts iterations until the residual is at most eps times its initial value.
+#include <cstddef>
 #include <vector>
 
 #include "channel_case.hpp"
@@ -27,5 +28,10 @@ struct Calibration {
 // the warm-up uses the FFT reference with c.solver's stress scheme.
 Calibration calibrate(const ChannelCase& c, const CartDecomposition& decomp, const std::vector<Particle>& particles,
                       long warmup, const std::vector<double>& eps, int max_iterations);
+
+// The bytes one rank holds in calibrate on `local` cells of the `dims` rank grid: the FFT
+// reference solver and the calibrated method's memory beyond its fields (MG: hypre's). The
+// counter's own iterate (one field, SOR) is small beside the solver's and left out.
+std::size_t calibration_memory(const ChannelCase& c, const Int3& local, const Int3& dims);
 
 }  // namespace efsi

@@ -1,6 +1,7 @@
 #pragma once
 // The memory one rank needs for a channel case, known before anything of full size is
-// allocated: what the strong-scaling dry run prints for thousands of ranks.
+// allocated: what the strong-scaling dry run prints for thousands of ranks, and what a run
+// checks against the node's available memory before it allocates.
 #include <cstddef>
 
 #include "channel_case.hpp"
@@ -20,5 +21,20 @@ struct MemoryEstimate {
 // buffers, particle lists and MPI's own memory are surface-sized or small and not counted.
 // Not collective.
 MemoryEstimate estimate_rank_memory(const ChannelCase& c, const Int3& local, const Int3& dims);
+
+// Bytes in GiB, as the dry run and the memory check print them.
+double gib(double bytes);
+
+// Collective over MPI_COMM_WORLD. Sums `rank_bytes` over the ranks that share this node
+// (MPI_COMM_TYPE_SHARED) and compares the sum with the node's MemAvailable
+// (/proc/meminfo): a run above it would be killed by the OOM killer, or swap, hours into a
+// queue slot. Every rank takes the decision of the node shortest of memory, so all throw
+// ConfigError alike (one line: both figures and --force-memory), or none does. With
+// `force`, rank 0 prints that line as a warning instead. Where MemAvailable cannot be read
+// (no /proc, a kernel before 3.14) nothing is refused and rank 0 prints a one-line warning.
+void check_node_memory(std::size_t rank_bytes, bool force);
+
+// The same for the case's solver on `local` cells per rank of the `dims` rank grid.
+void check_node_memory(const ChannelCase& c, const Int3& local, const Int3& dims, bool force);
 
 }  // namespace efsi

@@ -197,14 +197,15 @@ class DriverTestCase(unittest.TestCase):
     def path(self, name):
         return os.path.join(self.dir, name)
 
-    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT):
+    def run_on_two_ranks(self, args, timeout=RUN_TIMEOUT, extra_env=None):
         """Runs with every rank's exit status recorded; mpiexec is told not to abort the job
         when the first rank exits, so that each rank reports its own status."""
         status_dir = tempfile.mkdtemp(prefix="efsi_rank_status_")
         self.addCleanup(shutil.rmtree, status_dir, True)
-        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir,
-                  extra_env={"OMPI_MCA_orte_abort_on_non_zero_status": "0",
-                             "OMPI_MCA_prte_abort_on_non_zero_status": "0"}, program=self.program)
+        env = {"OMPI_MCA_orte_abort_on_non_zero_status": "0", "OMPI_MCA_prte_abort_on_non_zero_status": "0"}
+        env.update(extra_env or {})
+        res = run(args, ranks=2, cwd=self.dir, timeout=timeout, rank_status_dir=status_dir, extra_env=env,
+                  program=self.program)
         statuses = {}
         for name in sorted(os.listdir(status_dir)):
             with open(os.path.join(status_dir, name)) as f:
@@ -236,6 +237,41 @@ class DriverTestCase(unittest.TestCase):
             except OSError as e:
                 if e.errno != errno.ENOSPC:
                     raise
+
+    def fake_node(self, available_kb):
+        """The environment that makes the drivers read a /proc/meminfo of `available_kb`
+        kB MemAvailable (None: no such line) (EFSI_MEMINFO, test-only), from a file outside
+        self.dir."""
+        d = tempfile.mkdtemp(prefix="efsi_meminfo_")
+        self.addCleanup(shutil.rmtree, d, True)
+        path = os.path.join(d, "meminfo")
+        with open(path, "w") as f:
+            f.write("MemTotal:        2000000 kB\nMemFree:         1500000 kB\n")
+            if available_kb is not None:
+                f.write("MemAvailable:    %8d kB\n" % available_kb)
+            f.write("Buffers:           10000 kB\n")
+        return {"EFSI_MEMINFO": path}
+
+    def check_memory_refusal(self, res, ranks=1, statuses=None):
+        """Exit status 2 (of every rank, with the `statuses` of run_on_two_ranks) and one
+        stderr line naming what the node needs and has, in GiB, and --force-memory; returns
+        (needed, per rank, available) in GiB."""
+        self.assertFalse(res.timed_out, str(res))
+        if statuses is None:
+            self.assertEqual(res.rc, 2, str(res))
+        else:
+            self.assertEqual(statuses, {"rank%d" % r: "2" for r in range(ranks)},
+                             "every rank must exit with status 2:\n%s" % res)
+        lines = res.err.splitlines()
+        self.assertEqual(len(lines), 1, "expected one line on stderr:\n%s" % res)
+        m = re.fullmatch(r"%s: error: the run needs (\S+) GiB on this node \(%d ranks? x (\S+) GiB, estimated\) "
+                         r"but (\S+) GiB are available \(MemAvailable\); --force-memory runs it anyway"
+                         % (self.program, ranks), lines[0])
+        self.assertIsNotNone(m, lines[0])
+        need, per_rank, available = (float(x) for x in m.groups())
+        self.assertAlmostEqual(need, ranks * per_rank, delta=0.01 * need)
+        self.assertGreater(need, available)
+        return need, per_rank, available
 
     def run_ok(self, args, ranks=1, threads=1, **kw):
         res = run(args, ranks=ranks, cwd=self.dir, threads=threads, program=self.program, **kw)

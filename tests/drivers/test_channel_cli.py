@@ -518,6 +518,60 @@ class FailedOutputs(ChannelTestCase):
                     self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
 
 
+class NodeMemory(ChannelTestCase):
+    """A run the node cannot hold is refused before anything is allocated (check_node_memory):
+    the estimate summed over the node's ranks against MemAvailable, one line, exit 2 on every
+    rank; --force-memory runs it anyway."""
+
+    TINY_KB = 1000  # MemAvailable of the fake node: under the 16^3 case's few MB
+
+    def test_refused_on_one_and_two_ranks_nothing_written(self):
+        env = self.fake_node(self.TINY_KB)
+        args = SMALL + ["--csv", "run.csv", "--series", "series.csv", "--profile", "profile.csv"]
+        before = snapshot(self.dir)
+        res = run(args, cwd=self.dir, extra_env=env)
+        need, per_rank, available = self.check_memory_refusal(res)
+        self.assertAlmostEqual(available, self.TINY_KB / 2**20, delta=1e-3 * available)
+        self.assertEqual(res.out, "", "a refused run prints no banner")
+        res, statuses = self.run_on_two_ranks(args, timeout=60, extra_env=env)
+        _, per_rank2, _ = self.check_memory_refusal(res, ranks=2, statuses=statuses)
+        self.assertLess(per_rank2, per_rank, "two ranks hold half the box each")
+        self.assertEqual(snapshot(self.dir), before, "a refused run writes nothing")
+
+    def test_force_memory_runs_anyway(self):
+        env = self.fake_node(self.TINY_KB)
+        for n, ranks in enumerate((1, 2), start=1):
+            with self.subTest(ranks=ranks):
+                res = self.run_ok(SMALL + ["--force-memory", "--csv", "run.csv"], ranks=ranks, extra_env=env)
+                self.assertRegex(res.out, r"warning: the run needs \S+ GiB on this node .*running anyway "
+                                          r"\(--force-memory\)")
+                _, rows = read_table(self.path("run.csv"))
+                self.assertEqual(len(rows), n + 1)
+
+    def test_calibration_is_checked_too(self):
+        args = ["--cells", "32", "--length", "3.6", "--steps", "1", "--method", "sor", "--calibrate"]
+        self.check_memory_refusal(run(args, cwd=self.dir, extra_env=self.fake_node(self.TINY_KB)))
+
+    def test_unreadable_meminfo_warns_and_runs(self):
+        # No MemAvailable (no file; a kernel before 3.14): nothing to refuse on, one warning.
+        for env in ({"EFSI_MEMINFO": self.path("no_such_meminfo")}, self.fake_node(None)):
+            with self.subTest(meminfo=env["EFSI_MEMINFO"]):
+                res = self.run_ok(SMALL, extra_env=env)
+                self.assertEqual(res.out.count("warning: MemAvailable not readable on 1 of 1 node(s)"), 1, res.out)
+
+    def test_full_strong_scaling_box_on_one_rank_is_refused_quickly(self):
+        # The real /proc/meminfo: 2048 x 1024 x 1024 cells need some 650 GiB on one rank.
+        with open("/proc/meminfo") as f:
+            available_kb = int(re.search(r"MemAvailable:\s+(\d+) kB", f.read()).group(1))
+        if available_kb > 2**30:
+            self.skipTest("this node has over 1 TiB available")
+        res = run(["--cells", "2048,1024,1024", "--steps", "1"], cwd=self.dir, timeout=60)
+        need, per_rank, available = self.check_memory_refusal(res)
+        self.assertGreater(need, 100)
+        self.assertAlmostEqual(available, available_kb / 2**20, delta=0.05 * available + 0.1)
+        self.assertLess(res.seconds, 30, "refused before allocating")
+
+
 class DriverRegressions(ChannelTestCase):
     """Bugs these tests found in the driver, fixed since: each test asserts the right
     behaviour so that they stay fixed."""

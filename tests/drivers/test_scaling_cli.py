@@ -137,6 +137,47 @@ class StrongScaling(DriverTestCase):
                 self.assertGreater(estimate, 0.7 * rss_gib, "estimate %.3f GiB, resident %.3f GiB" % (estimate, rss_gib))
 
 
+class NodeMemory(DriverTestCase):
+    """The experiment drivers refuse a run the node cannot hold (check_node_memory), as
+    channel does; the strong-scaling dry run, which allocates nothing, does not."""
+
+    TINY_KB = 1000
+
+    def test_weak_scaling_refused_on_a_small_node(self):
+        self.program = "weak_scaling"
+        args = ["--local", "16", "--particles-per-rank", "0", "--steps", "1", "--csv", "weak.csv"]
+        before = snapshot(self.dir)
+        self.check_memory_refusal(run(args, cwd=self.dir, program=self.program, extra_env=self.fake_node(self.TINY_KB)))
+        self.assertEqual(snapshot(self.dir), before, "a refused run writes nothing")
+        self.run_ok(args + ["--force-memory"], extra_env=self.fake_node(self.TINY_KB))
+        self.assertTrue(os.path.exists(self.path("weak.csv")))
+
+    def test_accuracy_refused_for_both_methods_together(self):
+        self.program = "accuracy"
+        args = ["--cells", "32", "--length", "3.6", "--t-end", "0.002", "--csv", "acc.csv"]
+        before = snapshot(self.dir)
+        res = run(args, cwd=self.dir, program=self.program, extra_env=self.fake_node(self.TINY_KB))
+        need, _, _ = self.check_memory_refusal(res)
+        self.assertEqual(snapshot(self.dir), before, "a refused run writes nothing")
+        # ACM's and FFT's solvers live together to the comparison: the node needs their sum.
+        alone = [self.check_memory_refusal(run(args + ["--methods", m], cwd=self.dir, program=self.program,
+                                               extra_env=self.fake_node(self.TINY_KB)))[0] for m in ("acm", "fft")]
+        self.assertAlmostEqual(need, sum(alone), delta=0.01 * need)
+
+    def test_strong_scaling_full_size_refused_but_its_dry_run_is_not(self):
+        self.program = "strong_scaling"
+        with open("/proc/meminfo") as f:
+            available_kb = int(re.search(r"MemAvailable:\s+(\d+) kB", f.read()).group(1))
+        if available_kb > 2**30:
+            self.skipTest("this node has over 1 TiB available")
+        res = run(["--scale", "1", "--steps", "1"], cwd=self.dir, program=self.program, timeout=60)
+        need, _, _ = self.check_memory_refusal(res)
+        self.assertGreater(need, 100)
+        self.assertLess(res.seconds, 30, "refused before allocating")
+        res = self.run_ok(["--dry-run", "--ranks", "1"], extra_env=self.fake_node(self.TINY_KB))
+        self.assertIn("memory per rank", res.out)
+
+
 def read_vti_cells(path):
     """The first cell array of a raw-appended .vti file: (extent, values)."""
     with open(path, "rb") as f:
