@@ -47,3 +47,16 @@ if(EFSI_BUILD_BENCHMARKS)
   find_package(benchmark CONFIG)
   efsi_require(benchmark_FOUND "Google Benchmark" "libbenchmark-dev")
 endif()
+
+# Parallel HDF5 (snapshots and checkpoints, kernels/io): Debian's Open MPI build, found
+# through its h5pcc wrapper.  A serial HDF5 would compile but could not write collectively.
+set(HDF5_PREFER_PARALLEL TRUE)
+find_package(HDF5 COMPONENTS C)
+efsi_require(HDF5_FOUND "HDF5" "libhdf5-openmpi-dev")
+if(NOT HDF5_IS_PARALLEL)
+  message(FATAL_ERROR "HDF5 found is not the parallel build: install it with 'apt-get install libhdf5-openmpi-dev'")
+endif()
+add_library(efsi_hdf5 INTERFACE)
+target_include_directories(efsi_hdf5 SYSTEM INTERFACE ${HDF5_C_INCLUDE_DIRS})
+target_compile_definitions(efsi_hdf5 INTERFACE ${HDF5_C_DEFINITIONS})
+target_link_libraries(efsi_hdf5 INTERFACE ${HDF5_C_LIBRARIES} MPI::MPI_C)

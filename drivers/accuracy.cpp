@@ -18,7 +18,8 @@
 #include "memory_estimate.hpp"
 #include "method_options.hpp"
 #include "runtime.hpp"
-#include "vtk_image.hpp"
+#include "snapshot.hpp"
+#include "state_options.hpp"
 
 using namespace efsi;
 
@@ -30,6 +31,7 @@ struct Options {
   std::optional<int> every, particles;
   std::string methods = "acm,fft", out = ".", csv;
   bool force_memory = false;
+  StateOptions state;
 };
 
 // Largest distance from a region of `a` to the nearest region of `b`, periodic in x and z.
@@ -117,12 +119,18 @@ int run(const Options& o) {
     // against what the earlier methods left available, the estimate's margin alone could
     // refuse a later method after hours of the first.
     req.memory_checked = true;
+    StateOptions state = o.state;
+    if (state.snapshot_prefix.empty()) state.snapshot_prefix = dir + "/snapshot";
+    apply_state_options(state, req, tag);
     runs.push_back(run_case(c, particles[k], req));
     const CartDecomposition& dec = *runs.back().decomp;
     const Field& phi = runs.back().solver->state().phi();
     regions.push_back(solid_regions(phi, c.domain, dec));
     phi_global.push_back(gather_global(phi, dec));
-    write_on_root([&] { write_vti(dir + "/phi-" + tag + ".vti", c.domain, {{"phi", &phi_global.back()}}); });
+    std::vector<const Field*> fields;
+    for (Field* f : runs.back().solver->state().all()) fields.push_back(f);
+    write_snapshot(dir + "/fields-" + tag + ".h5", fields, dec, c.domain, runs.back().solver->steps_done(),
+                   runs.back().solver->time());
   }
 
   // The differences at the end against the first method (ACM against the FFT reference).
@@ -161,7 +169,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "The paper's accuracy comparison (section 3.1; docs/numerics.md, 'Experiments'): 16 particles in 7.2^3 on 128^3 "
       "cells, G = 50, dt = 5e-4 to t = 20, with ACM and the FFT reference.\nWrites into --out: "
-      "series-<method>.csv (energy budget), centroids-<method>.csv, phi-<method>.vti (ParaView) and "
+      "series-<method>.csv (energy budget), centroids-<method>.csv, fields-<method>.h5 with .xmf (every state field "
+      "at the end: parallel HDF5, ParaView) and "
       "comparison.txt. Smaller and shorter runs: --cells, --t-end.",
       "accuracy"};
   app.add_option("--cells", o.cells, "cells along each axis")->capture_default_str();
@@ -177,5 +186,7 @@ int main(int argc, char** argv) {
   app.add_option("--csv", o.csv, "append one result row per method to this CSV file");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");
   add_force_memory_flag(app, o.force_memory);
+  o.state.snapshot_prefix = "";  // OUT/snapshot unless given
+  add_state_options(app, o.state);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

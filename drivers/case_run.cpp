@@ -10,12 +10,14 @@
 #include <sstream>
 
 #include "centroids.hpp"
+#include "checkpoint.hpp"
 #include "config_error.hpp"
 #include "driver_support.hpp"
 #include "hybrid_layout.hpp"
 #include "memory_estimate.hpp"
 #include "run_record.hpp"
 #include "runtime.hpp"
+#include "snapshot.hpp"
 #include "text_file.hpp"
 #include "timing_report.hpp"
 
@@ -169,7 +171,6 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     check_writable(path, opt);
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  const long measured = req.total_steps - 1;
 
   RunOutcome out;
   out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
@@ -177,6 +178,16 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   // Before the banner and the first field: a case too big for the node is refused, not
   // started and killed (or swapping) once it has taken the node's memory.
   if (!req.memory_checked) check_node_memory(c, dec.local(), dec.dims(), req.force_memory);
+  CheckpointHeader from;  // step 0 unless restarting
+  if (!req.restart.empty()) {
+    from = check_checkpoint(req.restart, c, dec);
+    if (from.step + 2 > req.total_steps)
+      throw ConfigError("--restart '" + req.restart + "' is at step " + std::to_string(from.step) +
+                        " and the run ends at step " + std::to_string(req.total_steps) +
+                        ": it needs at least a warm-up and a measured step more");
+  }
+  const long first = from.step;
+  const long measured = req.total_steps - first - 1;
   const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
   if (is_root()) {
     std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s\n",
@@ -195,13 +206,18 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       sweeps += (sweeps.empty() ? "N_C = " : ", N_C = ") + std::to_string(c.solver.cn_sweeps) +
                 " Crank-Nicolson sweeps per step";
     if (!sweeps.empty()) std::printf("  %s\n", sweeps.c_str());
+    if (!req.restart.empty())
+      std::printf("  restarted from %s at step %ld, t = %.9g (written by revision %s)\n", req.restart.c_str(),
+                  from.step, from.time, from.revision.c_str());
     std::fflush(stdout);
   }
   out.solver = build_solver(c, dec, particles);
   FsiSolver& solver = *out.solver;
 
   const bool want_rows = !req.series.empty() || !req.centroids.empty();
-  std::string series = series_header(), centroid_rows = "step,time,region,volume,x,y,z\n";
+  RunHistory history{series_header(), "step,time,region,volume,x,y,z\n"};
+  if (!req.restart.empty()) history = restore_checkpoint(req.restart, solver);
+  std::string &series = history.series, &centroid_rows = history.centroids;
   auto record = [&]() {
     const FlowDiagnostics d = solver.diagnostics();
     if (!req.series.empty()) series += series_row(d);
@@ -216,10 +232,30 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     }
     return d;
   };
-  if (want_rows) record();
+  // Checkpoints and snapshots between steps, outside the measured time.
+  int checkpoints = 0, snapshots = 0;
+  double state_output_s = 0.0;
+  auto save_state = [&](bool at_end) {
+    const long done = solver.steps_done();
+    const double t0 = MPI_Wtime();
+    if (!req.snapshots.empty() && done % req.snapshot_every == 0) {
+      std::vector<const Field*> fields;
+      for (Field* f : solver.state().all()) fields.push_back(f);
+      write_snapshot(snapshot_name(req.snapshots, done), fields, dec, c.domain, done, solver.time());
+      ++snapshots;
+    }
+    if (!req.checkpoint.empty() && (at_end || (req.checkpoint_every > 0 && done % req.checkpoint_every == 0))) {
+      write_checkpoint(req.checkpoint, c, solver, history, build_revision());
+      ++checkpoints;
+    }
+    state_output_s += MPI_Wtime() - t0;
+  };
+  if (want_rows && req.restart.empty()) record();
+  if (req.restart.empty() && !req.snapshots.empty()) save_state(false);
 
   solver.step();  // warm-up: first touch of the work arrays, MPI connections
-  if (want_rows && req.every == 1) record();
+  if (want_rows && solver.steps_done() % req.every == 0) record();
+  save_state(false);
   solver.timers().reset();
   const long total = req.total_steps;
   const int progress = req.progress > 0 ? req.progress : (total >= 200 ? int(total / 20) : 0);
@@ -228,7 +264,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   double iterations = 0.0;  // of the pressure solves, summed over the measured steps
   std::vector<FlowDiagnostics> tail;  // the last three steps, for the energy-budget check
   for (long s = 1; s <= measured; ++s) {
-    const long done = s + 1;  // the warm-up step came first
+    const long done = first + s + 1;  // the warm-up step came first
     const bool want_series = want_rows && done % req.every == 0;
     const bool want_progress = progress > 0 && done % progress == 0;
     const bool want_diag = want_series || want_progress || s + 3 > measured;
@@ -248,7 +284,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
         std::printf("  step %8ld  t=%-10.5g beta=%-10.4g gamma=%-10.4g div_rms=%-10.3g  %.0f s left\n", done, d->time,
                     d->beta, d->gamma, d->div_rms, elapsed / double(s) * double(measured - s));
     }
+    if (s < measured) save_state(false);
   }
+  save_state(true);
 
   const Validation v = validate(tail, c.domain);
   out.valid = v.valid;
@@ -258,6 +296,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     const PressureReport& pr = solver.pressure().report();
     if (iterations > 0) std::printf("  pressure solve: %.4g iterations per step (mean)\n", iterations / double(measured));
     if (pr.setup_seconds > 0) std::printf("  pressure set-up: %.4g s, before the measured steps\n", pr.setup_seconds);
+    if (checkpoints + snapshots > 0)
+      std::printf("  state output: %d checkpoint(s), %d snapshot(s), %.3g s, outside the measured steps\n",
+                  checkpoints, snapshots, state_output_s);
     std::printf("%s\n", v.line().c_str());
   }
 
@@ -269,7 +310,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 }
 
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
-                     const std::string& csv, bool force_memory) {
+                     const std::string& csv, bool force_memory, const StateOptions& state) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
   const std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
@@ -279,6 +320,7 @@ int run_scaling_case(const ChannelCase& c, const std::string& program, const std
   req.total_steps = steps + 1;
   req.csv = csv;
   req.force_memory = force_memory;
+  apply_state_options(state, req);
   return run_case(c, particles, req).valid ? 0 : 4;
 }
 

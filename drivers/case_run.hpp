@@ -8,6 +8,7 @@
 
 #include "channel_case.hpp"
 #include "run_record.hpp"
+#include "state_options.hpp"
 #include "text_file.hpp"
 
 namespace efsi {
@@ -25,6 +26,11 @@ struct RunRequest {
   bool force_memory = false;
   // The caller ran check_node_memory itself (accuracy: for all its methods at once).
   bool memory_checked = false;
+  // The solver's state (state_options.hpp): a checkpoint at the end and every
+  // checkpoint_every steps, snapshots PREFIX-STEP.h5 every snapshot_every steps, and the
+  // checkpoint to continue from.  Written between steps, outside the measured time.
+  std::string checkpoint, snapshots, restart;
+  long checkpoint_every = 0, snapshot_every = 0;
 };
 
 struct RunOutcome {
@@ -45,6 +51,6 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
 // ("" for none); `force_memory` as in RunRequest. Returns the exit status: 0 when the run's
 // checks passed, 4 otherwise.
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
-                     const std::string& csv, bool force_memory);
+                     const std::string& csv, bool force_memory, const StateOptions& state);
 
 }  // namespace efsi

@@ -32,6 +32,7 @@ struct Options {
   long steps = 50;
   int every = 10, progress = 0;
   std::string profile, series, centroids, csv;
+  StateOptions state;
   bool calibrate = false, force_memory = false;
   int max_sweeps = 20000;
 };
@@ -148,6 +149,7 @@ int run(const Options& o) {
   req.progress = o.progress;
   req.series = o.series, req.centroids = o.centroids, req.profile = o.profile, req.csv = o.csv;
   req.force_memory = o.force_memory;
+  apply_state_options(o.state, req);
   return run_case(c, particles, req).valid ? 0 : 4;
 }
 
@@ -180,6 +182,7 @@ int main(int argc, char** argv) {
   app.add_option("--every", o.every, "steps between series rows")->capture_default_str();
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   app.add_option("--progress", o.progress, "print progress every N steps (default: 20 times in long runs)");
+  add_state_options(app, o.state);
   app.add_option("--velocity-limit", o.velocity_limit, "blow-up bound (default: 100 x laminar centre velocity)");
   add_force_memory_flag(app, o.force_memory);
   return run_driver(argc, argv, app, [&] { return run(o); });

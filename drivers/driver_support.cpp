@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "config_error.hpp"
+#include "output_error.hpp"
 #include "runtime.hpp"
 #include "stepper.hpp"
 #include "text_file.hpp"

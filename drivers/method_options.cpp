@@ -49,6 +49,9 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
   std::string names;
   for (const Integrator& i : integrators()) names += (names.empty() ? "" : " | ") + i.name;
   app.add_option("--integrator", o.integrator, "time integrator: " + names)->capture_default_str();
+  app.add_flag("--reproducible", o.reproducible,
+               "choose no algorithm by timing it (fft: FFTW_ESTIMATE plans instead of FFTW_MEASURE), so that "
+               "two runs of one case on one rank grid, or a run and its restart, give the same bits");
   app.add_flag_callback(
       "--list-methods",
       [] {
@@ -76,6 +79,7 @@ void apply_method_options(const MethodOptions& o, ChannelCase& c, double default
     throw ConfigError("--threads " + std::to_string(o.threads) + " must be positive (0: OMP_NUM_THREADS)");
   set_threads(o.threads);
   c.solver.integrator = find_integrator(o.integrator).name;
+  c.timed_planning = !o.reproducible;
   c.solver.dt = o.dt.value_or(default_dt);
   check_time_step_value(c.solver.dt, "--dt");
 }

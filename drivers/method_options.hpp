@@ -20,11 +20,13 @@ struct MethodOptions {
   std::optional<double> dt;
   std::optional<int> nc;
   int threads = 0;
+  bool reproducible = false;  // no algorithm chosen by timing (ChannelCase::timed_planning off)
 
   OptionValues given() const;  // the method options given on the command line
 };
 
-// --method, --comm, every registered method's options, --nc, --dt, --threads, --integrator.
+// --method, --comm, every registered method's options, --nc, --dt, --threads, --integrator,
+// --reproducible.
 // `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);
 

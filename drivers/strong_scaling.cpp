@@ -27,6 +27,7 @@ struct Options {
   bool dry_run = false, force_memory = false;
   std::optional<int> dry_ranks;
   std::string decomp, csv;
+  StateOptions state;
 };
 
 int dry_run(const ChannelCase& c, int ranks, std::size_t particles) {
@@ -69,7 +70,7 @@ int run(const Options& o) {
     return dry_run(c, *o.dry_ranks, static_cast<std::size_t>(c.particles));
   }
   if (o.dry_ranks) throw ConfigError("--ranks applies to --dry-run only (a run uses the ranks it is started on)");
-  return run_scaling_case(c, "strong_scaling", "strong", steps, o.csv, o.force_memory);
+  return run_scaling_case(c, "strong_scaling", "strong", steps, o.csv, o.force_memory, o.state);
 }
 
 }  // namespace
@@ -90,5 +91,6 @@ int main(int argc, char** argv) {
   app.add_option("--ranks", o.dry_ranks, "rank count for --dry-run");
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   add_force_memory_flag(app, o.force_memory);
+  add_state_options(app, o.state);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

@@ -18,6 +18,7 @@ struct Options {
   std::optional<long> steps;
   std::string decomp, csv;
   bool force_memory = false;
+  StateOptions state;
 };
 
 int run(const Options& o) {
@@ -47,7 +48,7 @@ int run(const Options& o) {
   c.particles = o.particles_per_rank * ranks;
   c.solver.velocity_limit = default_velocity_limit(c);
 
-  return run_scaling_case(c, "weak_scaling", "weak", steps, o.csv, o.force_memory);
+  return run_scaling_case(c, "weak_scaling", "weak", steps, o.csv, o.force_memory, o.state);
 }
 
 }  // namespace
@@ -70,5 +71,6 @@ int main(int argc, char** argv) {
   app.add_option("--decomp", o.decomp, "rank grid PX,PY,PZ (default: MPI_Dims_create)");
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   add_force_memory_flag(app, o.force_memory);
+  add_state_options(app, o.state);
   return run_driver(argc, argv, app, [&] { return run(o); });
 }

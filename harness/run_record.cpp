@@ -58,6 +58,8 @@ std::string num(double v) {
 
 }  // namespace
 
+std::string build_revision() { return EFSI_GIT_SHA; }
+
 const std::vector<std::string>& csv_columns() {
   static const std::vector<std::string> cols = {"experiment",
                                                 "method",
@@ -116,7 +118,7 @@ std::string csv_row(const RunRecord& r) {
     << num(t[Region::reduce].mean) << ',' << num(t.comm.mean) << ',' << num(t.comm.max) << ',' << num(t.comm_fraction)
     << ',' << num(mlups) << ',' << num(r.div_rms) << ',' << (r.valid && !r.layout.oversubscribed ? 1 : 0) << ','
     << clean(host_name()) << ',' << clean(mpi_library()) << ',' << clean("g++ " __VERSION__) << ','
-    << clean(EFSI_GIT_SHA) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
+    << clean(build_revision()) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
     << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
     << num(r.pressure_setup_s) << '\n';

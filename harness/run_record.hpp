@@ -28,6 +28,9 @@ struct RunRecord {
   HybridLayout layout;  // an oversubscribed run is never written as valid
 };
 
+// The git revision the programs were built from ("unknown" outside a git checkout).
+std::string build_revision();
+
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
 // omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator, pressure_iterations,
 // pressure_setup_s.

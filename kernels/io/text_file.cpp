@@ -113,12 +113,7 @@ void write_on_root(const std::function<void()>& write) {
     } catch (const std::exception& e) {
       message = *e.what() ? e.what() : "an output could not be written";
     }
-  int length = static_cast<int>(message.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (length == 0) return;
-  message.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(message.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
-  throw OutputError(message);
+  agree_on_failure(MPI_COMM_WORLD, message);
 }
 
 }  // namespace efsi

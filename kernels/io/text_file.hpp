@@ -10,14 +10,9 @@
 #include <string_view>
 #include <vector>
 
-namespace efsi {
+#include "output_error.hpp"
 
-// An output that could not be written at the end of a run, raised alike on every rank by
-// write_on_root; drivers print what() as one line and exit with status 5.
-class OutputError : public std::runtime_error {
- public:
-  explicit OutputError(const std::string& what) : std::runtime_error(what) {}
-};
+namespace efsi {
 
 // Collective over MPI_COMM_WORLD: rank 0 checks that `path` can be created or written and
 // every rank throws ConfigError ("--series 'PATH' cannot be written", "... is not a regular

@@ -53,6 +53,13 @@ void FsiSolver::start_from_rest() {
   time_ = 0.0;
 }
 
+void FsiSolver::resume(long steps_done, double time) {
+  complete_exchange();
+  halos_[static_cast<int>(StepExchange::state)]->exchange();
+  steps_ = steps_done;
+  time_ = time;
+}
+
 void FsiSolver::impose_laminar_flow() {
   complete_exchange();
   Field& u = state_.vel(X);

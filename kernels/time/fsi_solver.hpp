@@ -48,6 +48,10 @@ class FsiSolver final : public Stepper {
   // solid and stress (the particle-free steady state; a developed flow for the particles
   // to start in). Fills every ghost.
   void impose_laminar_flow();
+  // After the owned points of every state field were set from a checkpoint: the step
+  // count and time it was written at, and every ghost filled, so that the next step is the
+  // one the checkpointed run took.
+  void resume(long steps_done, double time);
 
   void step() override;
   FlowDiagnostics diagnostics() override;

@@ -5,7 +5,7 @@ through their command lines (docs/numerics.md, "Experiments", and docs/architect
 Rows with exactly the section-8 columns first, numbers where numbers belong, valid = 1 and a
 communication fraction in [0, 1], on 1 and 2 ranks; the weak-scaling box growing with the
 rank grid; the strong-scaling dry run of 8192 full-size ranks and its memory figure checked
-against a real run's resident size; the accuracy outputs (series, centroids, VTK image data);
+against a real run's resident size; the accuracy outputs (series, centroids, the final fields as parallel HDF5 with XDMF);
 bad options: one line, exit status 2, nothing written.
 
     test_scaling_cli.py --bin-dir BUILD/bin [unittest options]
@@ -13,9 +13,10 @@ bad options: one line, exit status 2, nothing written.
 
 import os
 import re
-import struct
 import subprocess
 import sys
+
+import h5py
 
 import driver_harness
 from driver_harness import EXIT_OUTPUT_FAILED, DriverTestCase, read_table, run, snapshot
@@ -178,22 +179,10 @@ class NodeMemory(DriverTestCase):
         self.assertIn("memory per rank", res.out)
 
 
-def read_vti_cells(path):
-    """The first cell array of a raw-appended .vti file: (extent, values)."""
-    with open(path, "rb") as f:
-        data = f.read()
-    head = data[:data.index(b"<AppendedData")].decode()
-    extent = [int(x) for x in re.search(r'WholeExtent="([^"]+)"', head).group(1).split()]
-    start = data.index(b"_", data.index(b'encoding="raw"')) + 1
-    (nbytes,) = struct.unpack("<Q", data[start:start + 8])
-    values = struct.unpack("<%dd" % (nbytes // 8), data[start + 8:start + 8 + nbytes])
-    return extent, values
-
-
 class Accuracy(DriverTestCase):
     program = "accuracy"
 
-    def test_small_case_writes_series_centroids_and_vtk(self):
+    def test_small_case_writes_series_centroids_and_fields(self):
         args = ["--cells", "32", "--length", "3.6", "--t-end", "0.01", "--every", "5", "--csv", "acc.csv"]
         for ranks in (1, 2):
             with self.subTest(ranks=ranks):
@@ -211,13 +200,16 @@ class Accuracy(DriverTestCase):
             _, centroids = read_table(self.path("centroids-%s.csv" % method))
             self.assertEqual(centroids[0], ["step", "time", "region", "volume", "x", "y", "z"])
             self.assertEqual(len(centroids) - 1, 2 * 5, "two particles at five times")
-            extent, phi = read_vti_cells(self.path("phi-%s.vti" % method))
-            self.assertEqual(extent, [0, 32, 0, 32, 0, 32])
-            self.assertEqual(len(phi), 32**3)
-            # The image holds the final phi: its mean is the series' conserved solid fraction.
-            mean = sum(phi) / len(phi)
-            self.assertAlmostEqual(mean, float(series[-1][10]), delta=1e-9)
-            self.assertGreater(max(phi), 0.9)
+            with h5py.File(self.path("fields-%s.h5" % method), "r") as f:
+                phi = f["phi"][...]
+                self.assertEqual(f.attrs["step"], 20)
+                self.assertEqual(sorted(f.keys()), sorted(["u", "v", "w", "p", "phi", "Bt11", "Bt22", "Bt33",
+                                                           "Bt12", "Bt13", "Bt23"]))
+            self.assertEqual(phi.shape, (32, 32, 32))
+            self.assertTrue(os.path.isfile(self.path("fields-%s.xmf" % method)))
+            # The file holds the final phi: its mean is the series' conserved solid fraction.
+            self.assertAlmostEqual(phi.mean(), float(series[-1][10]), delta=1e-9)
+            self.assertGreater(phi.max(), 0.9)
         with open(self.path("comparison.txt")) as f:
             text = f.read()
         m = re.search(r"max \|phi diff\| (\S+); centroids (\S+) cells apart", text)
@@ -285,15 +277,16 @@ class UnwritableOutputs(DriverTestCase):
                     self.assertRegex(lines[0], r"^%s: error: .*%s" % (program, re.escape(path)))
                     self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
 
-    def test_image_over_a_small_tmpfs(self):
+    def test_fields_over_a_small_tmpfs(self):
         fs = self.small_tmpfs()
-        # 32^3 doubles (256 KiB) do not fit in 64 KiB; the series and centroids before it do.
+        # 11 fields of 32^3 doubles do not fit in 64 KiB; the series and centroids before them do.
         res = run(["--cells", "32", "--length", "3.6", "--t-end", "0.002", "--every", "1", "--methods", "acm",
                    "--out", fs, "--csv", "acc.csv"], cwd=self.dir, program="accuracy")
         self.assertFalse(res.timed_out, str(res))
         self.assertEqual(res.rc, EXIT_OUTPUT_FAILED, str(res))
-        image = os.path.join(fs, "phi-acm.vti")
-        self.assertRegex(res.err, r"^accuracy: error: cannot write %s: No space left on device\n$" % re.escape(image))
+        fields = os.path.join(fs, "fields-acm.h5")
+        self.assertRegex(res.err, r"^accuracy: error: cannot write %s: No space left on device[^\n]*\n$" %
+                         re.escape(fields))
         self.assertEqual(sorted(os.listdir(fs)), ["centroids-acm.csv", "series-acm.csv"])
         self.assertFalse(os.path.exists(self.path("acc.csv")), "a row was recorded for a failed run")
 
