@@ -4,7 +4,8 @@
 #   - weak scaling, the paper's 64^3 block and 2 particles per rank, on 1 and 2 ranks, every
 #     method (acm, sor at eps 1e-3 and 1e-4, fft) in both halo modes, 3 measured steps each;
 #   - strong scaling of the paper's case divided by 16 per direction, the same sweep;
-#   - the accuracy comparison (ACM against the FFT reference) on the 3.6^3 block at 32^3;
+#   - the accuracy comparison (ACM against the FFT reference) on the 3.6^3 block at 32^3, with
+#     HDF5 snapshots of both at t = 0, 0.125 and 0.25;
 #   - the paper's figures and tables beside ours, PNG and PDF, in results/local/plots/.
 # The full-length campaign committed in results/campaign/ is the same with the paper's step
 # counts (see results/README.md).
@@ -21,7 +22,7 @@ mkdir -p "$out/accuracy"
 "$py" harness/campaign.py local --sweep quick-weak --csv "$out/weak.csv"
 "$py" harness/campaign.py local --sweep quick-strong --csv "$out/strong.csv"
 OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/accuracy --cells 32 --length 3.6 --t-end 0.25 \
-  --out "$out/accuracy" --csv "$out/accuracy/accuracy.csv"
+  --snapshot-every 250 --out "$out/accuracy" --csv "$out/accuracy/accuracy.csv"
 "$py" plots/make_plots.py --csv "$out/weak.csv" --csv "$out/strong.csv" --accuracy-dir "$out/accuracy" \
-  --out "$out/plots"
+  --surface-times 0,0.125,0.25 --out "$out/plots"
 echo "wrote $out/weak.csv, $out/strong.csv, $out/accuracy/ and $out/plots/"

@@ -244,7 +244,9 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       write_snapshot(snapshot_name(req.snapshots, done), fields, dec, c.domain, done, solver.time());
       ++snapshots;
     }
-    if (!req.checkpoint.empty() && (at_end || (req.checkpoint_every > 0 && done % req.checkpoint_every == 0))) {
+    const bool stepped = done > first;  // a checkpoint of the state it started from adds nothing
+    if (!req.checkpoint.empty() && stepped &&
+        (at_end || (req.checkpoint_every > 0 && done % req.checkpoint_every == 0))) {
       write_checkpoint(req.checkpoint, c, solver, history, build_revision());
       ++checkpoints;
     }
@@ -283,6 +285,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
       if (is_root())
         std::printf("  step %8ld  t=%-10.5g beta=%-10.4g gamma=%-10.4g div_rms=%-10.3g  %.0f s left\n", done, d->time,
                     d->beta, d->gamma, d->div_rms, elapsed / double(s) * double(measured - s));
+      std::fflush(stdout);  // a long run's log is read while it runs
     }
     if (s < measured) save_state(false);
   }

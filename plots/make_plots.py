@@ -13,6 +13,10 @@ Writes into --out (PNG and PDF for every figure):
 and, with --accuracy-dir (the accuracy driver's --out):
   fig2_energy_budget     -dK/dt, I, -eps_s, -eps_f and their sum, FFT reference and ACM (paper Fig. 2)
   particle_trajectories  particle centroids, ACM beside the FFT reference
+  fig1_particle_surfaces the particles' phi = 1/2 surfaces at three times, ACM beside the FFT
+                         reference, from the HDF5 snapshots (paper Fig. 1; h5py, scikit-image)
+  accuracy_comparison.md how far ACM's particles are from the reference's at the end: centroids,
+                         phi and the solid's shape
 
 Only rows with valid=1 are used; skipped rows are counted in the log and in the figures.
 Repeated runs of one point give the median.  Needs Debian's matplotlib (/usr/bin/python3).
@@ -27,6 +31,7 @@ import sys
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import results_data as rd  # noqa: E402
+import snapshots as sn  # noqa: E402
 import trajectories as tj  # noqa: E402
 
 DEFAULT_PAPER = os.path.join(os.path.dirname(HERE), "results", "paper", "paper_tables.csv")
@@ -325,6 +330,94 @@ def trajectory_figure(plt, acc_dir, box):
     return fig
 
 
+def surface_times(acc_dir, wanted):
+    """The snapshots nearest each wanted time that both methods have: {method: [Snapshot]}."""
+    runs = {m: sn.series(acc_dir, m) for m in ("acm", "fft")}
+    if not all(runs.values()):
+        return None
+    common = sorted(set(s.step for s in runs["acm"]) & set(s.step for s in runs["fft"]))
+    if not common:
+        return None
+    at = {m: {s.step: s for s in runs[m]} for m in runs}
+    picked = []
+    for t in wanted:
+        step = min(common, key=lambda k: abs(at["acm"][k].time - t))
+        if step not in picked:
+            picked.append(step)
+    return {m: [at[m][k] for k in picked] for m in runs}
+
+
+def surfaces_figure(plt, chosen):
+    """Rows ACM and FFT, one column per time: the phi = 1/2 surfaces in the box."""
+    from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+    columns = len(chosen["acm"])
+    fig = plt.figure(figsize=(4.2 * columns, 8.4))
+    for row, (method, title) in enumerate((("acm", "ACM"), ("fft", "FFT reference"))):
+        for col, snap in enumerate(chosen[method]):
+            ax = fig.add_subplot(2, columns, row * columns + col + 1, projection="3d")
+            surface = sn.solid_surface(snap)
+            if surface is not None:
+                verts, faces = surface
+                # Drawn as (x, z, y): the wall-normal y upwards.
+                mesh = Poly3DCollection(verts[faces][:, :, [0, 2, 1]], linewidths=0)
+                mesh.set_facecolor("tab:red")
+                mesh.set_alpha(0.9)
+                ax.add_collection3d(mesh)
+            lx, ly, lz = snap.length
+            ax.set(xlim=(0, lx), ylim=(0, lz), zlim=(0, ly))
+            ax.set_box_aspect((lx, lz, ly))
+            ax.set_xlabel("x", fontsize=8)
+            ax.set_ylabel("z", fontsize=8)
+            ax.set_zlabel("y", fontsize=8)
+            ax.tick_params(labelsize=6)
+            ax.view_init(elev=18, azim=-60)
+            ax.set_title(f"{title}, t = {snap.time:.4g}", fontsize=10)
+    cells = "x".join(str(n) for n in chosen["acm"][0].cells)
+    fig.suptitle(f"Particles as the surfaces phi = 1/2 ({cells} cells), ACM (top) beside the FFT reference "
+                 "(bottom) (paper Fig. 1)", fontsize=11)
+    fig.tight_layout()
+    return fig
+
+
+def comparison_table(path, acc_dir, box, chosen):
+    """accuracy_comparison.md: the paired particles' centroid distances at the last common
+    output, and phi and the solid's shape at each chosen snapshot."""
+    tracks = {m: tj.track(os.path.join(acc_dir, f"centroids-{m}.csv"), box) for m in ("fft", "acm")}
+    pairs = tj.pair_tracks(tracks["fft"], tracks["acm"], box)
+    dx = box[0] / chosen["acm"][0].cells[0] if chosen else None
+    lines = ["# ACM against the FFT reference", "",
+             f"Source: `{display_path(acc_dir)}`; box {box[0]:g} x {box[1]:g} x {box[2]:g}.", ""]
+    rows = []
+    for i, (ref, j) in enumerate(zip(tracks["fft"], pairs)):
+        if j is None:
+            rows.append(f"| {i} | {ref['time'][-1]:.4g} | (no ACM particle starts here) | | |")
+            continue
+        acm = tracks["acm"][j]
+        t = min(ref["time"][-1], acm["time"][-1])
+        a, r = acm["time"].index(t) if t in acm["time"] else None, ref["time"].index(t) if t in ref["time"] else None
+        if a is None or r is None:
+            continue
+        d = math.dist([ref[c][r] for c in "xyz"], [acm[c][a] for c in "xyz"])
+        rows.append(f"| {i} | {t:.4g} | {d:.3g} | {d / dx:.3g} | {acm['y'][a] - ref['y'][r]:+.3g} |" if dx else
+                    f"| {i} | {t:.4g} | {d:.3g} | | {acm['y'][a] - ref['y'][r]:+.3g} |")
+    lines += ["## Centroids at the last common output", "",
+              "| particle | t | distance | in cells | y (ACM - FFT) |", "|---|---|---|---|---|"] + rows + [""]
+    if chosen:
+        lines += ["## phi and the solid's shape", "",
+                  "Mismatch: the volume solid (phi > 1/2) in one method and not in the other, against the "
+                  "reference's solid volume.", "",
+                  "| t | max abs phi diff | mean abs phi diff | solid volume | mismatch | mismatch / solid |",
+                  "|---|---|---|---|---|---|"]
+        for a, b in zip(chosen["acm"], chosen["fft"]):
+            d = sn.state_differences(a, b)
+            share = d["mismatch_volume"] / d["solid_volume"] if d["solid_volume"] > 0 else math.nan
+            lines.append(f"| {b.time:.4g} | {d['max_phi_diff']:.3g} | {d['mean_phi_diff']:.3g} | "
+                         f"{d['solid_volume']:.4g} | {d['mismatch_volume']:.3g} | {share:.3g} |")
+        lines.append("")
+    with open(path, "w") as f:
+        f.write("\n".join(lines))
+
+
 # --- command line ---------------------------------------------------------------------------------
 
 def parse_box(text):
@@ -337,6 +430,16 @@ def parse_box(text):
     if len(v) != 3 or not all(math.isfinite(x) and x > 0 for x in v):
         raise argparse.ArgumentTypeError(f"box '{text}' is not L or LX,LY,LZ with positive lengths")
     return tuple(v)
+
+
+def parse_times(text):
+    try:
+        times = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"'{text}' is not a list of times separated by commas")
+    if not times or any(not math.isfinite(t) or t < 0 for t in times):
+        raise argparse.ArgumentTypeError(f"'{text}': times must be zero or positive")
+    return times
 
 
 def parse_formats(text):
@@ -353,7 +456,9 @@ def main(argv=None):
     p.add_argument("--paper", default=DEFAULT_PAPER, help="the paper's tables (default results/paper/paper_tables.csv)")
     p.add_argument("--accuracy-dir", help="the accuracy driver's --out directory (series-*.csv, centroids-*.csv)")
     p.add_argument("--box", type=parse_box,
-                   help="box lengths for unwrapping trajectories (default: from phi-acm.vti, else 7.2)")
+                   help="box lengths for unwrapping trajectories (default: from fields-acm.h5, else 7.2)")
+    p.add_argument("--surface-times", type=parse_times, default=[0.0, 5.0, 20.0],
+                   help="times of fig1_particle_surfaces, the nearest snapshots (default 0,5,20)")
     p.add_argument("--out", default="plots/out", help="output directory (default plots/out)")
     p.add_argument("--formats", type=parse_formats, default=["png", "pdf"], help="default png,pdf")
     try:
@@ -371,8 +476,8 @@ def main(argv=None):
         paper_weak, paper_strong = rd.paper_series(args.paper, 2), rd.paper_series(args.paper, 4)
         box = args.box
         if args.accuracy_dir and box is None:
-            vti = os.path.join(args.accuracy_dir, "phi-acm.vti")
-            box = tj.box_from_vti(vti) if os.path.isfile(vti) else (7.2, 7.2, 7.2)
+            fields = os.path.join(args.accuracy_dir, "fields-acm.h5")
+            box = sn.box(fields) if os.path.isfile(fields) else (7.2, 7.2, 7.2)
     except (UsageError, rd.DataError, ValueError, OSError) as e:
         print(f"make_plots.py: error: {e}", file=sys.stderr)
         return 2
@@ -406,6 +511,16 @@ def main(argv=None):
         fig = trajectory_figure(plt, args.accuracy_dir, box)
         save(fig, args.out, "particle_trajectories", args.formats, written)
         plt.close(fig)
+        chosen = surface_times(args.accuracy_dir, args.surface_times)
+        if chosen:
+            fig = surfaces_figure(plt, chosen)
+            save(fig, args.out, "fig1_particle_surfaces", args.formats, written)
+            plt.close(fig)
+        else:
+            print("no HDF5 snapshots of both methods in the accuracy directory: fig1_particle_surfaces not drawn")
+        path = os.path.join(args.out, "accuracy_comparison.md")
+        comparison_table(path, args.accuracy_dir, box, chosen)
+        written.append(path)
     for path in written:
         print(f"wrote {path}")
     return 0

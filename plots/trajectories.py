@@ -10,23 +10,8 @@ particles joined or parted) starts a new track.  Standard library only.
 
 import collections
 import math
-import re
 
 from results_data import read_numeric_csv
-
-
-def box_from_vti(path):
-    """(Lx, Ly, Lz) from a VTK ImageData file's WholeExtent and Spacing (cell or point data)."""
-    with open(path, "rb") as f:
-        head = f.read(4096).decode("latin-1")
-    ext = re.search(r'WholeExtent="([^"]+)"', head)
-    spacing = re.search(r'Spacing="([^"]+)"', head)
-    if not ext or not spacing:
-        raise ValueError(f"{path}: no WholeExtent/Spacing in the ImageData header")
-    e = [int(v) for v in ext.group(1).split()]
-    h = [float(v) for v in spacing.group(1).split()]
-    point_data = "<PointData" in head and "<CellData" not in head
-    return tuple((e[2 * a + 1] - e[2 * a] + (1 if point_data else 0)) * h[a] for a in range(3))
 
 
 def _delta(a, b, length, periodic):

@@ -268,7 +268,11 @@ class FailedStateOutputs(StateTestCase):
         step = int(attrs["step"])
         self.assertGreaterEqual(step, 1)
         self.assertEqual(fields["v"].shape, (64, 65, 64))
-        res = self.launch(["--cells", "64", "--length", "3.6", "--steps", str(step + 1), "--restart", "ck.h5"])
+        # Was: the killed run left Open MPI's per-file-name semaphore (OMPIO's shared file
+        # pointer, /dev/shm/sem.OMPIO_ck.h5.tmp) taken, and the next checkpoint of that name
+        # waited for it forever.
+        res = self.launch(["--cells", "64", "--length", "3.6", "--steps", str(step + 1), "--restart", "ck.h5",
+                           "--checkpoint", "ck.h5"])
         self.assertRegex(res.out, r"restarted from ck\.h5 at step %d" % step)
 
 

@@ -206,6 +206,64 @@ class Trajectories(unittest.TestCase):
         self.assertEqual(sorted(pairs), list(range(len(acm))))
 
 
+def write_state(path, step, time, centre, cells=24, length=7.2):
+    """A state file as the drivers write it (global datasets [z, y, x], step, time, cells and
+    lengths as attributes) holding one smooth ball of radius 1.5 at `centre` in phi."""
+    import h5py
+    import numpy as np
+    h = length / cells
+    c = (np.arange(cells) + 0.5) * h
+    z, y, x = np.meshgrid(c, c, c, indexing="ij")
+    r = np.sqrt((x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2)
+    with h5py.File(path, "w") as f:
+        f["phi"] = 0.5 * (1 - np.tanh((r - 1.5) / h))
+        f["u"] = np.zeros((cells, cells, cells))
+        f.attrs["step"] = step
+        f.attrs["time"] = time
+        for a in "xyz":
+            f.attrs["cells_" + a] = cells
+            f.attrs["length_" + a] = length
+
+
+class ParticleSurfaces(unittest.TestCase):
+    """fig1_particle_surfaces and accuracy_comparison.md from HDF5 snapshots: two methods whose
+    ball is the same at t = 0 and 5 and one cell apart in x at t = 20."""
+
+    def test_surfaces_and_the_comparison(self):
+        tmp = tempfile.mkdtemp(prefix="efsi-plots-h5-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        acc = os.path.join(tmp, "accuracy")
+        shutil.copytree(ACCURACY, acc)
+        h = 7.2 / 24
+        for method, shift in (("acm", h), ("fft", 0.0)):
+            write_state(os.path.join(acc, f"snapshot-{method}-00000000.h5"), 0, 0.0, (3.6, 3.6, 3.6))
+            write_state(os.path.join(acc, f"snapshot-{method}-00010000.h5"), 10000, 5.0, (3.6, 3.6, 3.6))
+            write_state(os.path.join(acc, f"fields-{method}.h5"), 40000, 20.0, (3.6 + shift, 3.6, 3.6))
+        out = os.path.join(tmp, "out")
+        r = make_plots("--accuracy-dir", acc, "--out", out, "--formats", "png")
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        with open(os.path.join(out, "fig1_particle_surfaces.png"), "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+        with open(os.path.join(out, "accuracy_comparison.md")) as f:
+            text = f.read()
+        rows = {}
+        for line in section(text, "phi and the solid").splitlines():
+            cells = [c.strip() for c in line.strip("|").split("|")]
+            if len(cells) == 6 and cells[0][0].isdigit():
+                rows[float(cells[0])] = [float(v) for v in cells[1:]]
+        self.assertEqual(sorted(rows), [0.0, 5.0, 20.0])
+        for t in (0.0, 5.0):
+            self.assertEqual(rows[t][0], 0.0, "identical states")
+            self.assertEqual(rows[t][3], 0.0)
+        # A ball of radius R moved by h: the two sides it gains and loses, 2 pi R^2 h, against
+        # its 4/3 pi R^3: 3 h / (2 R) = 0.3.
+        max_diff, _, solid, mismatch, share = rows[20.0]
+        self.assertAlmostEqual(solid, 4 / 3 * 3.14159 * 1.5 ** 3, delta=0.15 * solid)
+        self.assertGreater(max_diff, 0.3)
+        self.assertAlmostEqual(share, 0.3, delta=0.05)
+        self.assertIn("## Centroids at the last common output", text)
+
+
 class Errors(unittest.TestCase):
     def test_one_line_and_status_2(self):
         tmp = tempfile.mkdtemp(prefix="efsi-plots-bad-")

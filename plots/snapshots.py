@@ -1,0 +1,101 @@
+"""Reading the drivers' HDF5 state files with h5py: snapshots (PREFIX-STEP.h5), the accuracy
+driver's final fields (fields-METHOD.h5) and checkpoints.  Each field is a dataset of its
+global points, z slowest and x fastest, with the file's step, time, cells and lengths as
+attributes (docs/architecture.md, "Checkpoints and snapshots").
+
+Also the phi = 1/2 surfaces of the particles (marching cubes from scikit-image) and the
+differences between two states of the same box.  Needs Debian's python3-h5py and
+python3-skimage (for /usr/bin/python3).
+"""
+
+import glob
+import os
+import re
+
+# Where each field's points sit: the axes it lies on faces of (x, y, z).
+FACES = {"u": "x", "v": "y", "w": "z", "p": "", "phi": "", "Bt11": "", "Bt22": "", "Bt33": "",
+         "Bt12": "xy", "Bt13": "xz", "Bt23": "yz"}
+
+
+class Snapshot:
+    """One state file: .step, .time, .cells (nx, ny, nz), .length (Lx, Ly, Lz), and
+    field(name) as a numpy array indexed [z, y, x]."""
+
+    def __init__(self, path):
+        import h5py
+        self.path = path
+        with h5py.File(path, "r") as f:
+            attrs = dict(f.attrs)
+            self.names = sorted(k for k in f.keys() if k in FACES)
+        self.step = int(attrs["step"])
+        self.time = float(attrs["time"])
+        if "cells_x" in attrs:
+            self.cells = tuple(int(attrs["cells_" + a]) for a in "xyz")
+            self.length = tuple(float(attrs["length_" + a]) for a in "xyz")
+        else:  # a checkpoint: its configuration entries
+            self.cells = tuple(int(v) for v in attrs["config cells"].decode().split(","))
+            self.length = tuple(float(v) for v in attrs["config length"].decode().split(","))
+
+    def field(self, name):
+        import h5py
+        with h5py.File(self.path, "r") as f:
+            return f[name][...]
+
+    def spacing(self):
+        return tuple(l / n for l, n in zip(self.length, self.cells))
+
+
+def box(path):
+    """(Lx, Ly, Lz) of a state file."""
+    return Snapshot(path).length
+
+
+def series(directory, method):
+    """The snapshots of `method` in an accuracy --out directory, and its final fields file,
+    sorted by step (one per step)."""
+    found = {}
+    for path in glob.glob(os.path.join(directory, f"snapshot-{method}-*.h5")):
+        if re.search(r"-\d{8}\.h5$", path):
+            s = Snapshot(path)
+            found[s.step] = s
+    final = os.path.join(directory, f"fields-{method}.h5")
+    if os.path.isfile(final):
+        s = Snapshot(final)
+        found.setdefault(s.step, s)
+    return [found[k] for k in sorted(found)]
+
+
+def closest(snapshots, t):
+    return min(snapshots, key=lambda s: abs(s.time - t))
+
+
+def solid_surface(snapshot):
+    """The phi = 1/2 surface: (vertices as x, y, z, faces), with phi's cell-centred points at
+    (i + 1/2) dx.  None when phi never crosses 1/2."""
+    from skimage import measure
+    phi = snapshot.field("phi")
+    if not (phi.min() < 0.5 < phi.max()):
+        return None
+    dx, dy, dz = snapshot.spacing()
+    verts, faces, _, _ = measure.marching_cubes(phi, 0.5, spacing=(dz, dy, dx))
+    # [z, y, x] -> x, y, z, shifted to the cell centres.
+    xyz = verts[:, ::-1] + [0.5 * dx, 0.5 * dy, 0.5 * dz]
+    return xyz, faces
+
+
+def state_differences(a, b):
+    """How two states of one box differ: max |phi_a - phi_b|, and the volume where one is
+    solid (phi > 1/2) and the other is not, against the solid volume of `b`."""
+    import numpy as np
+    if a.cells != b.cells or a.length != b.length:
+        raise ValueError(f"{a.path} and {b.path} are not the same box")
+    pa, pb = a.field("phi"), b.field("phi")
+    cell = float(np.prod(a.spacing()))
+    solid_a, solid_b = pa > 0.5, pb > 0.5
+    solid = solid_b.sum() * cell
+    return {
+        "max_phi_diff": float(np.abs(pa - pb).max()),
+        "mean_phi_diff": float(np.abs(pa - pb).mean()),
+        "solid_volume": float(solid),
+        "mismatch_volume": float((solid_a != solid_b).sum() * cell),
+    }
