@@ -155,7 +155,9 @@ int run(const Options& o) {
   for (const RunOutcome& r : runs) valid = valid && r.valid;
   if (is_root()) std::fputs(text.c_str(), stdout);
   write_on_root([&] {
-    write_text_file(dir + "/comparison.txt", text);
+    // One method alone (a job per method, compared afterwards from the files by
+    // plots/make_plots.py) has nothing to compare.
+    if (runs.size() > 1) write_text_file(dir + "/comparison.txt", text);
     if (!o.csv.empty())
       for (const RunOutcome& r : runs) append_csv(o.csv, r.record);
   });

@@ -347,6 +347,17 @@ def surface_times(acc_dir, wanted):
     return {m: [at[m][k] for k in picked] for m in runs}
 
 
+def shaded(triangles, rgb):
+    """One colour per triangle, lit from the viewer's upper left, so that the shapes read."""
+    import numpy as np
+    normals = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    normals /= np.maximum(np.linalg.norm(normals, axis=1, keepdims=True), 1e-300)
+    light = np.array([-0.5, -0.6, 0.8])
+    light /= np.linalg.norm(light)
+    brightness = 0.35 + 0.65 * np.abs(normals @ light)
+    return np.clip(np.outer(brightness, rgb), 0, 1)
+
+
 def surfaces_figure(plt, chosen):
     """Rows ACM and FFT, one column per time: the phi = 1/2 surfaces in the box."""
     from mpl_toolkits.mplot3d.art3d import Poly3DCollection
@@ -359,9 +370,9 @@ def surfaces_figure(plt, chosen):
             if surface is not None:
                 verts, faces = surface
                 # Drawn as (x, z, y): the wall-normal y upwards.
-                mesh = Poly3DCollection(verts[faces][:, :, [0, 2, 1]], linewidths=0)
-                mesh.set_facecolor("tab:red")
-                mesh.set_alpha(0.9)
+                triangles = verts[faces][:, :, [0, 2, 1]]
+                mesh = Poly3DCollection(triangles, linewidths=0)
+                mesh.set_facecolor(shaded(triangles, (0.84, 0.15, 0.16)))
                 ax.add_collection3d(mesh)
             lx, ly, lz = snap.length
             ax.set(xlim=(0, lx), ylim=(0, lz), zlim=(0, ly))
@@ -373,7 +384,7 @@ def surfaces_figure(plt, chosen):
             ax.view_init(elev=18, azim=-60)
             ax.set_title(f"{title}, t = {snap.time:.4g}", fontsize=10)
     cells = "x".join(str(n) for n in chosen["acm"][0].cells)
-    fig.suptitle(f"Particles as the surfaces phi = 1/2 ({cells} cells), ACM (top) beside the FFT reference "
+    fig.suptitle(f"Particles as the surfaces phi = 1/2 ({cells} cells)\nACM (top) beside the FFT reference "
                  "(bottom) (paper Fig. 1)", fontsize=11)
     fig.tight_layout()
     return fig
