@@ -58,9 +58,9 @@ std::vector<std::pair<std::string, std::string>> checkpoint_configuration(const 
 void write_checkpoint(const std::string& path, const ChannelCase& c, const FsiSolver& solver,
                       const RunHistory& history, const std::string& revision) {
   const std::vector<const Field*> fields = state_fields(solver.state());
-  write_hdf5_atomically(path, solver.state().decomp(), [&](Hdf5File& file) {
-    file.reserve(
-        Hdf5File::bytes_needed(fields, solver.state().decomp(), history.series.size() + history.centroids.size()));
+  const std::size_t bytes =
+      Hdf5File::bytes_needed(fields, solver.state().decomp(), history.series.size() + history.centroids.size());
+  write_hdf5_atomically(path, solver.state().decomp(), bytes, [&](Hdf5File& file) {
     file.set_attribute("step", solver.steps_done());
     file.set_attribute("time", solver.time());
     file.set_attribute("revision", revision);

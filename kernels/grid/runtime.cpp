@@ -9,12 +9,13 @@
 namespace efsi {
 
 Runtime::Runtime(int& argc, char**& argv, int threads) {
-  // Open MPI's MPI-IO (OMPIO) opens every file with a shared-file-pointer component; its
-  // default one keeps a named semaphore per file name in /dev/shm, which a run killed while
-  // writing leaves taken, and the next open of a file of that name (a checkpoint's
-  // temporary) then waits forever.  The suite never uses shared file pointers.  A user's own
-  // setting wins; other MPI libraries ignore the variable.
-  setenv("OMPI_MCA_sharedfp", "individual", 0);
+  // Open MPI's own MPI-IO (OMPIO) opens every file with a shared-file-pointer component:
+  // the default one keeps a semaphore named after the file in /dev/shm, which a run killed
+  // while writing leaves taken, so that the next open of a file of that name (a checkpoint's
+  // temporary) waits forever; the others leave files beside the output when a write fails.
+  // ROMIO, Open MPI's other MPI-IO, has none of this.  A user's own setting wins; other MPI
+  // libraries ignore the variable.
+  setenv("OMPI_MCA_io", "^ompio", 0);
   MPI_Init_thread(&argc, &argv, MPI_THREAD_FUNNELED, &provided_);
   MPI_Comm_rank(MPI_COMM_WORLD, &rank_);
   MPI_Comm_size(MPI_COMM_WORLD, &size_);

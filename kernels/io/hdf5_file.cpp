@@ -97,6 +97,10 @@ Hdf5File::Hdf5File(const std::string& path, Mode mode, const CartDecomposition& 
   xfer_ = H5Pcreate(H5P_DATASET_XFER);
   if (failure.empty() && (xfer_ < 0 || H5Pset_dxpl_mpio(xfer_, H5FD_MPIO_COLLECTIVE) < 0))
     failure = hdf5_reason("transfer list");
+  if (!failure.empty()) {  // a constructor that throws runs no destructor
+    if (xfer_ >= 0) H5Pclose(xfer_);
+    release();
+  }
   agree(failure.empty(), failure);
 }
 
@@ -105,12 +109,10 @@ Hdf5File::~Hdf5File() {
   release();
 }
 
-bool Hdf5File::release() {
-  if (file_ < 0) return true;
-  const bool closed = H5Fclose(file_) >= 0;
+void Hdf5File::release() {
+  if (file_ >= 0) H5Fclose(file_);
   H5Eclear2(H5E_DEFAULT);
   file_ = -1;
-  return closed;
 }
 
 std::size_t Hdf5File::bytes_needed(const std::vector<const Field*>& fields, const CartDecomposition& decomp,
@@ -333,13 +335,27 @@ void Hdf5File::close() {
   agree(failure.empty(), failure);
 }
 
-void write_hdf5_atomically(const std::string& path, const CartDecomposition& decomp,
+void write_hdf5_atomically(const std::string& path, const CartDecomposition& decomp, std::size_t bytes,
                            const std::function<void(Hdf5File&)>& fill) {
   const std::string temporary = path + ".tmp";
   int rank = 0;
   MPI_Comm_rank(decomp.comm(), &rank);
+  // Room first, before HDF5 holds the file: even the superblock HDF5 writes when it closes
+  // an empty file fails on a full disk, and then it crashes in MPI_Finalize.  Creating the
+  // file truncates it, so the reservation is made again once HDF5 has created it.
+  std::string room;
+  if (rank == 0) {
+    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = fd < 0 ? errno : ::fallocate(fd, 0, 0, off_t(bytes)) == 0 ? 0 : errno;
+    if (fd >= 0) ::close(fd);
+    std::remove(temporary.c_str());
+    if (err != 0 && err != EOPNOTSUPP && err != ENOSYS)
+      room = "cannot write " + path + ": " + std::strerror(err) + " (it needs " + std::to_string(bytes) + " bytes)";
+  }
+  agree_on_failure(decomp.comm(), room);
   try {
     Hdf5File file(temporary, Hdf5File::Mode::create, decomp);
+    file.reserve(bytes);
     fill(file);
     file.close();
   } catch (const OutputError& e) {

@@ -52,9 +52,9 @@ class Hdf5File {
   std::string read_text(const std::string& name);
   bool has_dataset(const std::string& name);
 
-  // Reserves `bytes` of disk for the file (fallocate, keeping its size), so that a file
-  // system too full for it fails here, before HDF5 writes anything: HDF5 cannot close a file
-  // whose writes failed, and crashes in MPI_Finalize over it.  Writing only; collective.
+  // Reserves `bytes` of disk for the file (fallocate, keeping its size), so that HDF5's
+  // writes cannot run out of room: HDF5 cannot close a file whose writes failed, and crashes
+  // in MPI_Finalize over it.  Writing only; collective.
   void reserve(std::size_t bytes);
   // A bound on the file holding these fields' datasets and `text_bytes` of text, with room
   // for the attributes and HDF5's own metadata.
@@ -69,8 +69,8 @@ class Hdf5File {
   void agree(bool ok, const std::string& what);
   void read_attribute(const std::string& name, hid_t mem_type, void* out);
   void write_attribute(const std::string& name, hid_t file_type, hid_t mem_type, const void* value);
-  // Closes the file without reporting; false if it could not be closed cleanly.
-  bool release();
+  // Closes the file without reporting: the error paths.
+  void release();
 
   std::string path_;
   const CartDecomposition& decomp_;
@@ -82,7 +82,9 @@ class Hdf5File {
 // closed it without error, renames it to `path`: a run stopped or failing while writing
 // leaves whatever was under `path` before (the previous checkpoint) intact, and no
 // temporary file after an error it reports.  Collective.
-void write_hdf5_atomically(const std::string& path, const CartDecomposition& decomp,
+// `bytes` bounds the file (bytes_needed): a file system without that room fails before HDF5
+// creates anything (see reserve()).
+void write_hdf5_atomically(const std::string& path, const CartDecomposition& decomp, std::size_t bytes,
                            const std::function<void(Hdf5File&)>& fill);
 
 }  // namespace efsi

@@ -69,8 +69,7 @@ std::string xdmf_text(const std::string& h5_name, const std::vector<const Field*
 
 void write_snapshot(const std::string& h5_path, const std::vector<const Field*>& fields,
                     const CartDecomposition& decomp, const Domain& domain, long step, double time) {
-  write_hdf5_atomically(h5_path, decomp, [&](Hdf5File& file) {
-    file.reserve(Hdf5File::bytes_needed(fields, decomp));
+  write_hdf5_atomically(h5_path, decomp, Hdf5File::bytes_needed(fields, decomp), [&](Hdf5File& file) {
     file.set_attribute("step", step);
     file.set_attribute("time", time);
     for (int a = 0; a < 3; ++a) {
