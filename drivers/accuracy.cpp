@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "case_run.hpp"
 #include "centroids.hpp"
@@ -127,9 +128,8 @@ int run(const Options& o) {
     const Field& phi = runs.back().solver->state().phi();
     regions.push_back(solid_regions(phi, c.domain, dec));
     phi_global.push_back(gather_global(phi, dec));
-    std::vector<const Field*> fields;
-    for (Field* f : runs.back().solver->state().all()) fields.push_back(f);
-    write_snapshot(dir + "/fields-" + tag + ".h5", fields, dec, c.domain, runs.back().solver->steps_done(),
+    write_snapshot(dir + "/fields-" + tag + ".h5", std::as_const(runs.back().solver->state()).all(), dec, c.domain,
+                   runs.back().solver->steps_done(),
                    runs.back().solver->time());
   }
 

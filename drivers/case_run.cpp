@@ -8,6 +8,7 @@
 #include <iterator>
 #include <optional>
 #include <sstream>
+#include <utility>
 
 #include "centroids.hpp"
 #include "checkpoint.hpp"
@@ -239,9 +240,8 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     const long done = solver.steps_done();
     const double t0 = MPI_Wtime();
     if (!req.snapshots.empty() && done % req.snapshot_every == 0) {
-      std::vector<const Field*> fields;
-      for (Field* f : solver.state().all()) fields.push_back(f);
-      write_snapshot(snapshot_name(req.snapshots, done), fields, dec, c.domain, done, solver.time());
+      write_snapshot(snapshot_name(req.snapshots, done), std::as_const(solver.state()).all(), dec, c.domain, done,
+                     solver.time());
       ++snapshots;
     }
     const bool stepped = done > first;  // a checkpoint of the state it started from adds nothing

@@ -19,15 +19,6 @@ std::string exact3(const std::array<double, 3>& v) { return exact(v[0]) + "," + 
 
 const std::string kConfig = "config ";  // attribute prefix of the configuration's entries
 
-std::vector<const Field*> state_fields(const FsiState& s) {
-  std::vector<const Field*> out;
-  for (int a = 0; a < 3; ++a) out.push_back(&s.vel(a));
-  out.push_back(&s.p());
-  out.push_back(&s.phi());
-  for (int n = 0; n < 6; ++n) out.push_back(&s.B(n));
-  return out;
-}
-
 }  // namespace
 
 std::vector<std::pair<std::string, std::string>> checkpoint_configuration(const ChannelCase& c) {
@@ -57,7 +48,7 @@ std::vector<std::pair<std::string, std::string>> checkpoint_configuration(const 
 
 void write_checkpoint(const std::string& path, const ChannelCase& c, const FsiSolver& solver,
                       const RunHistory& history, const std::string& revision) {
-  const std::vector<const Field*> fields = state_fields(solver.state());
+  const std::vector<const Field*> fields = solver.state().all();
   const std::size_t bytes =
       Hdf5File::bytes_needed(fields, solver.state().decomp(), history.series.size() + history.centroids.size());
   write_hdf5_atomically(path, solver.state().decomp(), bytes, [&](Hdf5File& file) {

@@ -78,6 +78,15 @@ bool select_owned(const Field& f, const CartDecomposition& d, Selection& s) {
          H5Sselect_hyperslab(s.mem_space, H5S_SELECT_SET, first.data(), nullptr, count.data(), nullptr) >= 0;
 }
 
+// errno of reserving `bytes` for `path` (0 on success, and where the file system cannot
+// reserve: EOPNOTSUPP, some network ones); `mode` as fallocate's.
+int reserve_on_disk(const std::string& path, std::size_t bytes, int mode) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT, 0644);
+  const int err = fd < 0 ? errno : ::fallocate(fd, mode, 0, off_t(bytes)) == 0 ? 0 : errno;
+  if (fd >= 0) ::close(fd);
+  return err == EOPNOTSUPP || err == ENOSYS ? 0 : err;
+}
+
 }  // namespace
 
 Hdf5File::Hdf5File(const std::string& path, Mode mode, const CartDecomposition& decomp)
@@ -131,11 +140,8 @@ void Hdf5File::reserve(std::size_t bytes) {
   MPI_Comm_rank(decomp_.comm(), &rank);
   std::string failure;
   if (rank == 0) {
-    const int fd = ::open(path_.c_str(), O_WRONLY);
-    const int err = fd < 0 ? errno : ::fallocate(fd, FALLOC_FL_KEEP_SIZE, 0, off_t(bytes)) == 0 ? 0 : errno;
-    if (fd >= 0) ::close(fd);
-    // A file system that cannot reserve (EOPNOTSUPP: some network ones) is written unreserved.
-    if (err != 0 && err != EOPNOTSUPP && err != ENOSYS)
+    const int err = reserve_on_disk(path_, bytes, FALLOC_FL_KEEP_SIZE);
+    if (err != 0)
       failure = std::string(std::strerror(err)) + " (reserving " + std::to_string(bytes) + " bytes for it)";
   }
   agree(failure.empty(), failure);
@@ -345,11 +351,10 @@ void write_hdf5_atomically(const std::string& path, const CartDecomposition& dec
   // file truncates it, so the reservation is made again once HDF5 has created it.
   std::string room;
   if (rank == 0) {
-    const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = fd < 0 ? errno : ::fallocate(fd, 0, 0, off_t(bytes)) == 0 ? 0 : errno;
-    if (fd >= 0) ::close(fd);
+    std::remove(temporary.c_str());  // a killed run's, whose blocks would count as room
+    const int err = reserve_on_disk(temporary, bytes, 0);
     std::remove(temporary.c_str());
-    if (err != 0 && err != EOPNOTSUPP && err != ENOSYS)
+    if (err != 0)
       room = "cannot write " + path + ": " + std::strerror(err) + " (it needs " + std::to_string(bytes) + " bytes)";
   }
   agree_on_failure(decomp.comm(), room);

@@ -45,6 +45,12 @@ std::vector<Field*> FsiState::all() {
   return out;
 }
 
+std::vector<const Field*> FsiState::all() const {
+  std::vector<const Field*> out;
+  for (const Field& f : fields_) out.push_back(&f);
+  return out;
+}
+
 void FsiState::set_unstrained_rest() {
   for (int a = 0; a < 3; ++a) vel(a).fill(0.0);
   p().fill(0.0);

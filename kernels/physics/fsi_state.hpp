@@ -77,6 +77,7 @@ class FsiState {
   const Field& B(int n) const { return fields_[5 + n]; }
 
   std::vector<Field*> all();  // in fsi_field_specs() order
+  std::vector<const Field*> all() const;
   FieldSet fields() const;
   const Domain& domain() const { return domain_; }
   const CartDecomposition& decomp() const { return decomp_; }
