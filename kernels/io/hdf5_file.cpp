@@ -317,12 +317,6 @@ std::string Hdf5File::read_text(const std::string& name) {
   return text;
 }
 
-bool Hdf5File::has_dataset(const std::string& name) {
-  const htri_t e = H5Lexists(file_, name.c_str(), H5P_DEFAULT);
-  agree(e >= 0, hdf5_reason("link " + name));
-  return e > 0;
-}
-
 void Hdf5File::close() {
   std::string failure;
   if (xfer_ >= 0) H5Pclose(xfer_);

@@ -50,7 +50,6 @@ class Hdf5File {
   // Text of any length (a run's series so far) as a byte dataset, written by rank 0.
   void write_text(const std::string& name, const std::string& text);
   std::string read_text(const std::string& name);
-  bool has_dataset(const std::string& name);
 
   // Reserves `bytes` of disk for the file (fallocate, keeping its size), so that HDF5's
   // writes cannot run out of room: HDF5 cannot close a file whose writes failed, and crashes
