@@ -37,19 +37,32 @@ inline double strain_rate(const FieldSet& s, const InverseSpacing& inv, int i, i
   else return 0.5 * (grad_v<A, B>(s, inv, i, j, k) + grad_v<B, A>(s, inv, i, j, k));
 }
 
+// sqrt(phi) (Bt - tr(Bt)/3 I)_AA at a centre from its sqrt(phi), Bt_AA and diagonal of Bt.
+inline double solid_normal_over_G(double root, double b_aa, double b11, double b22, double b33) {
+  const double tr = b11 + b22 + b33;
+  return root * (b_aa - tr / 3.0);
+}
+
 // sqrt(phi) (Bt - tr(Bt)/3 I)_AB at tensor_location(A, B); the solid stress is G times
-// this. sqrt(phi) is averaged to the edges from the four surrounding centres.
+// this. sqrt(phi) is averaged to the edges from the four surrounding centres. `root(i, j, k)`
+// gives sqrt_phi(phi) at centre (i, j, k): the step's kernels read it from a field filled
+// once (solid_root), since a square root costs as much as a division and each centre feeds
+// seven stress points.
+template <int A, int B, class Root>
+inline double solid_stress_over_G(const FieldSet& s, const Root& root, int i, int j, int k) {
+  if constexpr (A == B) {
+    return solid_normal_over_G(root(i, j, k), s.B(A)(i, j, k), s.B(0)(i, j, k), s.B(1)(i, j, k), s.B(2)(i, j, k));
+  } else {
+    constexpr Stagger T = tensor_location(A, B);
+    return average<Stagger::cell, T>(root, i, j, k) * s.B(A, B)(i, j, k);
+  }
+}
+
+// The same with sqrt(phi) taken where it is read.
 template <int A, int B>
 inline double solid_stress_over_G(const FieldSet& s, int i, int j, int k) {
   const Field& phi = s.phi();
-  if constexpr (A == B) {
-    const double tr = s.B(0)(i, j, k) + s.B(1)(i, j, k) + s.B(2)(i, j, k);
-    return sqrt_phi(phi(i, j, k)) * (s.B(A)(i, j, k) - tr / 3.0);
-  } else {
-    constexpr Stagger T = tensor_location(A, B);
-    const double sq = average<Stagger::cell, T>([&](int a, int b, int c) { return sqrt_phi(phi(a, b, c)); }, i, j, k);
-    return sq * s.B(A, B)(i, j, k);
-  }
+  return solid_stress_over_G<A, B>(s, [&](int a, int b, int c) { return sqrt_phi(phi(a, b, c)); }, i, j, k);
 }
 
 }  // namespace efsi

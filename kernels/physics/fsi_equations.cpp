@@ -13,12 +13,27 @@ namespace {
 using Inv = InverseSpacing;
 
 template <int A, int B>
-void stress_component(const FieldSet& s, const Physics& ph, Field& t, const Box& box) {
+void stress_component(const FieldSet& s, const Physics& ph, const Field& root, Field& t, const Box& box) {
   const Inv inv(s.domain());
   const double two_mu = 2.0 * ph.mu, G = ph.G;
+  const auto r = [&root](int a, int b, int c) { return root(a, b, c); };
   for_box(box, [&](int i, int j, int k) {
-    t(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_stress_over_G<A, B>(s, i, j, k);
+    t(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_stress_over_G<A, B>(s, r, i, j, k);
   });
+}
+
+// root = sqrt_phi(phi) on the centres that the stress at `centres` and `edges` reads (an edge
+// averages the centres below it along its two staggered axes).
+void solid_root(const Field& phi, Field& root, const Box& centres, const Box& edges) {
+  Box b = centres;
+  if (b.empty()) b = edges;
+  for (int a = 0; a < 3; ++a) {
+    if (!edges.empty()) {
+      b.lo[a] = std::min(b.lo[a], edges.lo[a] - 1);
+      b.hi[a] = std::max(b.hi[a], edges.hi[a]);
+    }
+  }
+  for_box(b, [&](int i, int j, int k) { root(i, j, k) = sqrt_phi(phi(i, j, k)); });
 }
 
 // Transport velocity v_A (a face quantity) at the edge or centre `E` of the flux through
@@ -129,7 +144,8 @@ FsiWork::FsiWork(const CartDecomposition& decomp)
             Field(decomp, fsi_field_specs()[7]), Field(decomp, fsi_field_specs()[8]),
             Field(decomp, fsi_field_specs()[9]), Field(decomp, fsi_field_specs()[10])},
       div(decomp, {"div*", Stagger::cell, 1, WallParity::even}),
-      dp(decomp, {"dp", Stagger::cell, 1, WallParity::even}) {}
+      dp(decomp, {"dp", Stagger::cell, 1, WallParity::even}),
+      root_phi(decomp, {"sqrt_phi", Stagger::cell, 1, WallParity::even}) {}
 
 KernelBoxes full_boxes(const Int3& n) {
   return {{{-1, -1, -1}, n}, {{0, 0, 0}, {n[0] + 1, n[1] + 1, n[2] + 1}}, {{0, 0, 0}, n}, {{0, 0, 0}, n}};
@@ -140,14 +156,16 @@ KernelBoxes interior_boxes(const Int3& n) {
   return {{{0, 0, 0}, m1}, {{1, 1, 1}, n}, {{1, 1, 1}, m1}, {{3, 3, 3}, m3}};
 }
 
-void compute_stress(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
-                    const Box& edges) {
-  stress_component<0, 0>(s, ph, tau[0], centres);
-  stress_component<1, 1>(s, ph, tau[1], centres);
-  stress_component<2, 2>(s, ph, tau[2], centres);
-  stress_component<0, 1>(s, ph, tau[3], edges);
-  stress_component<0, 2>(s, ph, tau[4], edges);
-  stress_component<1, 2>(s, ph, tau[5], edges);
+void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 6>& tau,
+                    const Box& centres, const Box& edges) {
+  if (centres.empty() && edges.empty()) return;
+  solid_root(s.phi(), root, centres, edges);
+  stress_component<0, 0>(s, ph, root, tau[0], centres);
+  stress_component<1, 1>(s, ph, root, tau[1], centres);
+  stress_component<2, 2>(s, ph, root, tau[2], centres);
+  stress_component<0, 1>(s, ph, root, tau[3], edges);
+  stress_component<0, 2>(s, ph, root, tau[4], edges);
+  stress_component<1, 2>(s, ph, root, tau[5], edges);
 }
 
 void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
@@ -166,16 +184,6 @@ Box owned_extent(const Field& q, const Box& cells) {
 }  // namespace efsi
 
 namespace efsi {
-
-void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau) {
-  const Box owned{{0, 0, 0}, s.decomp().local()};
-  stress_component<0, 0>(s, ph, tau[0], owned);
-  stress_component<1, 1>(s, ph, tau[1], owned);
-  stress_component<2, 2>(s, ph, tau[2], owned);
-  stress_component<0, 1>(s, ph, tau[3], owned_extent(tau[3], owned));
-  stress_component<0, 2>(s, ph, tau[4], owned_extent(tau[4], owned));
-  stress_component<1, 2>(s, ph, tau[5], owned_extent(tau[5], owned));
-}
 
 void stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, std::array<Field, 3>& out,
                        const Box& faces) {

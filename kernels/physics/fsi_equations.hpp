@@ -19,6 +19,7 @@ struct FsiWork {
   std::array<Field, 6> B_new;
   Field div;  // rho div v* at cell centres (halo 1: the Laplacian reads neighbours)
   Field dp;   // pressure increment (halo 1: its gradient reads the low neighbour)
+  Field root_phi;  // sqrt(max(phi, 0)) at cell centres, ghosts -1 included (solid_root)
 };
 
 // Output ranges of the kernels over the whole local block (ghost reads included) and
@@ -30,8 +31,10 @@ KernelBoxes full_boxes(const Int3& n);
 KernelBoxes interior_boxes(const Int3& n);
 
 // tau = 2 mu D + G sqrt(phi) (Bt - tr(Bt)/3 I): diagonal on `centres`, off-diagonal on `edges`.
-void compute_stress(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau, const Box& centres,
-                    const Box& edges);
+// It first fills `root` = sqrt(max(phi, 0)) on the centres these points read, and leaves it
+// there: the Crank-Nicolson sweeps of the same step reuse it (phi does not change in them).
+void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 6>& tau,
+                    const Box& centres, const Box& edges);
 
 // The tendencies: each kernel computes a right-hand side d q / dt, and the integrator
 // (time layer) applies it.
@@ -51,9 +54,12 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
 Box owned_extent(const Field& q, const Box& cells);
 
 // The pieces of the Crank-Nicolson stress iteration (docs/numerics.md, "SMAC"), same stencils as above.
-// compute_stress on the owned points of every component (top wall faces included): the
-// iteration exchanges tau instead of computing it on ghosts.
-void compute_stress_owned(const FieldSet& s, const Physics& ph, std::array<Field, 6>& tau);
+// tau from s's velocity and Bt* = base + dt (L.Bt + Bt.L^T) (L and Bt from s), on the owned
+// points of every component (top wall faces included): add_stretching then compute_stress,
+// fused along each line so that Bt* is never stored.  `root` must hold sqrt(phi) of s's phi
+// on the centres these points read, as compute_stress over the full boxes leaves it.
+void stretched_stress_owned(const FieldSet& s, const Physics& ph, double dt, const std::array<Field, 6>& base,
+                            const Field& root, std::array<Field, 6>& tau);
 // out = base + dt (L.Bt + Bt.L^T), L from s's velocity and Bt from s, on `cells` (extended
 // to the owned top wall face like compute_transport).
 void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,

@@ -88,6 +88,49 @@ void stretching_component(const FieldSet& s, double dt, const Field& base, Field
   });
 }
 
+// tau_AB (A != B) from s's velocity and Bt* = base + dt (L.Bt + Bt.L^T)_AB, Bt* kept in the line.
+template <int A, int B>
+void stretched_shear_component(const FieldSet& s, const Physics& ph, double dt, const Field& base, const Field& root,
+                               Field& tau, const Box& cells) {
+  const Inv inv(s.domain());
+  constexpr Stagger T = tensor_location(A, B);
+  const double two_mu = 2.0 * ph.mu, G = ph.G;
+  const auto r = [&root](int a, int b, int c) { return root(a, b, c); };
+  for_lines<1>(owned_extent(tau, cells), [&](const auto& l, double* uc) {
+    stretching_line<A, B>(s, inv, l, uc);
+    along(l, [&](int t, int i, int j, int k) {
+      const double b_star = base(i, j, k) + dt * uc[t];
+      tau(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * (average<Stagger::cell, T>(r, i, j, k) * b_star);
+    });
+  });
+}
+
+// tau_11, tau_22, tau_33 likewise: each needs the three diagonal Bt* for the trace.
+void stretched_normal_components(const FieldSet& s, const Physics& ph, double dt, const std::array<Field, 6>& base,
+                                 const Field& root, std::array<Field, 6>& tau, const Box& cells) {
+  const Inv inv(s.domain());
+  const double two_mu = 2.0 * ph.mu, G = ph.G;
+  for_lines<3>(cells, [&](const auto& l, double* uc) {
+    double* const u[3] = {uc, uc + l.n, uc + 2 * l.n};
+    stretching_line<0, 0>(s, inv, l, u[0]);
+    stretching_line<1, 1>(s, inv, l, u[1]);
+    stretching_line<2, 2>(s, inv, l, u[2]);
+    auto normal = [&](auto a_tag) {
+      constexpr int A = decltype(a_tag)::value;
+      along(l, [&](int t, int i, int j, int k) {
+        const double b0 = base[0](i, j, k) + dt * u[0][t], b1 = base[1](i, j, k) + dt * u[1][t],
+                     b2 = base[2](i, j, k) + dt * u[2][t];
+        const double b_aa = A == 0 ? b0 : A == 1 ? b1 : b2;
+        tau[A](i, j, k) = two_mu * strain_rate<A, A>(s, inv, i, j, k) +
+                          G * solid_normal_over_G(root(i, j, k), b_aa, b0, b1, b2);
+      });
+    };
+    normal(std::integral_constant<int, 0>{});
+    normal(std::integral_constant<int, 1>{});
+    normal(std::integral_constant<int, 2>{});
+  });
+}
+
 void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
   const Inv inv(s.domain());
   for_lines<1>(cells, [&](const auto& l, double* adv) {
@@ -116,6 +159,15 @@ void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& ba
   stretching_component<0, 1>(s, dt, base[3], out[3], cells);
   stretching_component<0, 2>(s, dt, base[4], out[4], cells);
   stretching_component<1, 2>(s, dt, base[5], out[5], cells);
+}
+
+void stretched_stress_owned(const FieldSet& s, const Physics& ph, double dt, const std::array<Field, 6>& base,
+                            const Field& root, std::array<Field, 6>& tau) {
+  const Box owned{{0, 0, 0}, s.decomp().local()};
+  stretched_normal_components(s, ph, dt, base, root, tau, owned);
+  stretched_shear_component<0, 1>(s, ph, dt, base[3], root, tau[3], owned);
+  stretched_shear_component<0, 2>(s, ph, dt, base[4], root, tau[4], owned);
+  stretched_shear_component<1, 2>(s, ph, dt, base[5], root, tau[5], owned);
 }
 
 }  // namespace efsi

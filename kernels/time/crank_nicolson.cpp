@@ -39,7 +39,6 @@ CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWor
       div_tau_explicit_{Field(decomp, work.vstar[0].spec()), Field(decomp, work.vstar[1].spec()),
                         Field(decomp, work.vstar[2].spec())},
       b_advected_(tensor_fields(decomp, work.B_new, "_adv")),
-      b_star_(tensor_fields(decomp, work.B_new, "*")),
       tau_star_(tensor_fields(decomp, work.tau, "*")),
       v_halo_(decomp, {&work.vstar[0], &work.vstar[1], &work.vstar[2]}, Reach::full, timers),
       tau_halo_(decomp,
@@ -64,10 +63,8 @@ void CrankNicolsonStress::iterate(const FsiState& state, FsiWork& w, const Physi
     v_halo_.exchange();
     {
       RegionTimers::Scope t(timers_, Region::compute);
-      // Bt* from Bt^N stretched by the iterate's gradient; tau* from (v*, Bt*) with phi^N.
-      const FieldSet iterate = s.with_velocity(w.vstar);
-      add_stretching(iterate, dt, b_advected_, b_star_, owned);
-      compute_stress_owned(iterate.with_B(b_star_), ph, tau_star_);
+      // tau* from v* and Bt* (Bt^N stretched by the iterate's gradient), with phi^N.
+      stretched_stress_owned(s.with_velocity(w.vstar), ph, dt, b_advected_, w.root_phi, tau_star_);
     }
     tau_halo_.exchange();
     RegionTimers::Scope t(timers_, Region::compute);

@@ -131,7 +131,7 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
 void FsiSolver::tendencies(const KernelBoxes& b) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
-  compute_stress(s, config_.physics, work_.tau, b.stress_centres, b.stress_edges);
+  compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
   momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum);
   transport_tendency(s, work_.phi_new, work_.B_new, b.transport);
 }
@@ -148,9 +148,9 @@ void FsiSolver::shell_stress_and_momentum(const KernelBoxes& full, const KernelB
   const FieldSet s = state_.fields();
   const Physics& ph = config_.physics;
   for_each_shell_box(full.stress_centres, in.stress_centres,
-                     [&](const Box& b) { compute_stress(s, ph, work_.tau, b, Box{}); });
+                     [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, b, Box{}); });
   for_each_shell_box(full.stress_edges, in.stress_edges,
-                     [&](const Box& b) { compute_stress(s, ph, work_.tau, Box{}, b); });
+                     [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, Box{}, b); });
   for_each_shell_box(full.momentum, in.momentum,
                      [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b); });
 }
