@@ -43,6 +43,13 @@ inline double solid_normal_over_G(double root, double b_aa, double b11, double b
   return root * (b_aa - tr / 3.0);
 }
 
+// sqrt(phi) Bt_AB (A != B) at the edge (i, j, k) of staggering T from its Bt_AB, sqrt(phi)
+// averaged from the four centres around it.
+template <Stagger T, class Root>
+inline double solid_shear_over_G(const Root& root, double b_ab, int i, int j, int k) {
+  return average<Stagger::cell, T>(root, i, j, k) * b_ab;
+}
+
 // sqrt(phi) (Bt - tr(Bt)/3 I)_AB at tensor_location(A, B); the solid stress is G times
 // this. sqrt(phi) is averaged to the edges from the four surrounding centres. `root(i, j, k)`
 // gives sqrt_phi(phi) at centre (i, j, k): the step's kernels read it from a field filled
@@ -53,8 +60,7 @@ inline double solid_stress_over_G(const FieldSet& s, const Root& root, int i, in
   if constexpr (A == B) {
     return solid_normal_over_G(root(i, j, k), s.B(A)(i, j, k), s.B(0)(i, j, k), s.B(1)(i, j, k), s.B(2)(i, j, k));
   } else {
-    constexpr Stagger T = tensor_location(A, B);
-    return average<Stagger::cell, T>(root, i, j, k) * s.B(A, B)(i, j, k);
+    return solid_shear_over_G<tensor_location(A, B)>(root, s.B(A, B)(i, j, k), i, j, k);
   }
 }
 

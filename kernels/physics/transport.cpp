@@ -100,7 +100,7 @@ void stretched_shear_component(const FieldSet& s, const Physics& ph, double dt, 
     stretching_line<A, B>(s, inv, l, uc);
     along(l, [&](int t, int i, int j, int k) {
       const double b_star = base(i, j, k) + dt * uc[t];
-      tau(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * (average<Stagger::cell, T>(r, i, j, k) * b_star);
+      tau(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_shear_over_G<T>(r, b_star, i, j, k);
     });
   });
 }
