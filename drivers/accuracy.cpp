@@ -28,7 +28,7 @@ namespace {
 
 struct Options {
   int cells = 128, threads = 0;
-  double length = 7.2, G = 50.0, dt = 5e-4, t_end = 20.0;
+  double length = 7.2, G = 50.0, dt = 5e-4, t_end = 20.0, force = 1.0;
   std::optional<int> every, particles;
   std::string methods = "acm,fft", out = ".", csv;
   bool force_memory = false;
@@ -69,6 +69,7 @@ int run(const Options& o) {
   if (!(o.length > 0)) throw ConfigError("--length " + std::to_string(o.length) + " must be positive");
   check_time_step_value(o.dt, "--dt");
   if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
+  if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
   const long total = std::lround(o.t_end / o.dt);
   if (total < 2) throw ConfigError("--t-end " + std::to_string(o.t_end) + " is under two steps of --dt");
   const int every = o.every.value_or(static_cast<int>(std::max(1L, total / 400)));
@@ -79,6 +80,7 @@ int run(const Options& o) {
   c.domain.length = {o.length, o.length, o.length};
   c.solver.dt = o.dt;
   c.solver.physics.G = o.G;
+  c.solver.physics.force = o.force;
   c.particles = o.particles ? *o.particles : static_cast<int>(lattice_site_count(c.domain, c.particle));
   c.solver.velocity_limit = default_velocity_limit(c);
   const std::string dir = o.out.empty() ? "." : o.out;
@@ -181,6 +183,8 @@ int main(int argc, char** argv) {
   app.add_option("--methods", o.methods, "pressure methods, comma-separated; the first is compared with the others")
       ->capture_default_str();
   app.add_option("--G", o.G, "shear modulus")->capture_default_str();
+  app.add_option("--force", o.force, "driving pressure gradient along x (the paper's quoted CFL 0.018 and Re 10 imply about 0.31)")
+      ->capture_default_str();
   app.add_option("--dt", o.dt, "time step")->capture_default_str();
   app.add_option("--t-end", o.t_end, "end time (every step is measured after one warm-up step)")->capture_default_str();
   app.add_option("--every", o.every, "steps between series and centroid rows (default: 400 rows)");

@@ -27,7 +27,15 @@ double poiseuille_centre_velocity(const ChannelCase& c) {
   return laminar_centreline_velocity(c.domain, c.solver.physics.mu, c.solver.physics.force);
 }
 
-double default_velocity_limit(const ChannelCase& c) { return 100.0 * std::fabs(poiseuille_centre_velocity(c)); }
+double default_velocity_limit(const ChannelCase& c) {
+  // Without a driving force the laminar velocity is zero and would flag round-off as a
+  // blow-up: the elastic wave speed is then the scale, or unit velocity with no solid either.
+  const Physics& ph = c.solver.physics;
+  double scale = std::fabs(poiseuille_centre_velocity(c));
+  if (!(scale > 0.0)) scale = std::sqrt(ph.G / ph.rho);
+  if (!(scale > 0.0)) scale = 1.0;
+  return 100.0 * scale;
+}
 
 Int3 rank_grid(const ChannelCase& c, int ranks) {
   const bool forced = c.forced_dims[0] > 0 || c.forced_dims[1] > 0 || c.forced_dims[2] > 0;

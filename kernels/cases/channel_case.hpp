@@ -54,7 +54,8 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
 // Laminar centreline velocity f Ly^2 / (8 mu): the a-priori velocity scale.
 double poiseuille_centre_velocity(const ChannelCase& c);
 
-// The blow-up bound every driver uses unless told otherwise: 100 times that velocity.
+// The blow-up bound every driver uses unless told otherwise: 100 times that velocity (with
+// no driving force, 100 times the elastic wave speed sqrt(G / rho)).
 double default_velocity_limit(const ChannelCase& c);
 
 }  // namespace efsi

@@ -218,6 +218,20 @@ class Accuracy(DriverTestCase):
         self.assertLess(float(m.group(2)), 1e-2)
 
 
+    def test_force_drives_the_flow(self):
+        # From rest the flow's kinetic energy grows as f^2 while it is slow (Stokes start-up).
+        args = ["--cells", "32", "--length", "3.6", "--t-end", "0.005", "--every", "10", "--methods", "acm"]
+        kinetic = {}
+        for force in ("0.5", "1", "2"):
+            with self.subTest(force=force):
+                self.run_ok(args + ["--force", force])
+                _, series = read_table(self.path("series-acm.csv"))
+                kinetic[force] = float(series[-1][2])
+        self.assertGreater(kinetic["1"], 1e-6)
+        self.assertAlmostEqual(kinetic["2"] / kinetic["1"], 4.0, delta=0.04)
+        self.assertAlmostEqual(kinetic["0.5"] / kinetic["1"], 0.25, delta=0.0025)
+
+
 class BadOptions(DriverTestCase):
     CASES = [
         ("weak_scaling", ["--method", "simple"], r"--method|simple"),
@@ -234,6 +248,7 @@ class BadOptions(DriverTestCase):
         ("accuracy", ["--methods", "acm,exact"], r"exact"),
         ("accuracy", ["--out", "no_such_dir"], r"no_such_dir"),
         ("accuracy", ["--cells", "8", "--length", "3.6"], r"."),
+        ("accuracy", ["--force", "nan"], r"--force"),
     ]
 
     def test_one_line_exit_2_nothing_written(self):
