@@ -102,10 +102,7 @@ int run(const Options& o) {
     throw ConfigError("--calibrate applies to a method with an iteration count per step (" + calibrated_methods() +
                       "), not --method " + c.method.name());
   if (o.max_sweeps < 1) throw ConfigError("--max-sweeps " + std::to_string(o.max_sweeps) + " must be at least 1");
-  if (!std::isfinite(o.G) || o.G < 0) throw ConfigError("--G " + std::to_string(o.G) + " must be zero or positive");
-  if (!std::isfinite(o.force)) throw ConfigError("--force must be a finite number");
-  c.solver.physics.G = o.G;
-  c.solver.physics.force = o.force;
+  apply_physics_options(o.G, o.force, c);
   if (o.progress < 0) throw ConfigError("--progress " + std::to_string(o.progress) + " must be zero or positive");
   if (o.particles && *o.particles < 0)
     throw ConfigError("--particles " + std::to_string(*o.particles) + " must be zero or positive");

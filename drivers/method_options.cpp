@@ -65,6 +65,13 @@ void check_time_step_value(double dt, const char* option) {
   if (!(dt > 0) || !std::isfinite(dt)) throw ConfigError(std::string(option) + " " + std::to_string(dt) + " must be a positive number");
 }
 
+void apply_physics_options(double G, double force, ChannelCase& c) {
+  if (!std::isfinite(G) || G < 0) throw ConfigError("--G " + std::to_string(G) + " must be zero or positive");
+  if (!std::isfinite(force)) throw ConfigError("--force " + std::to_string(force) + " must be a finite number");
+  c.solver.physics.G = G;
+  c.solver.physics.force = force;
+}
+
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating) {
   if (o.comm == "sync")
     c.solver.comm = CommMode::sync;

@@ -50,4 +50,8 @@ long apply_scaling_defaults(const MethodOptions& o, ChannelCase& c, std::optiona
 // A positive, finite time step; throws ConfigError naming `option` and the value.
 void check_time_step_value(double dt, const char* option);
 
+// --G (zero or positive) and --force (finite) into c.solver.physics; throws ConfigError
+// naming the option and the value.
+void apply_physics_options(double G, double force, ChannelCase& c);
+
 }  // namespace efsi

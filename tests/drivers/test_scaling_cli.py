@@ -217,7 +217,6 @@ class Accuracy(DriverTestCase):
         self.assertLess(float(m.group(1)), 1e-2, "ACM and the FFT reference agree over 20 steps")
         self.assertLess(float(m.group(2)), 1e-2)
 
-
     def test_force_drives_the_flow(self):
         # From rest the flow's kinetic energy grows as f^2 while it is slow (Stokes start-up).
         args = ["--cells", "32", "--length", "3.6", "--t-end", "0.005", "--every", "10", "--methods", "acm"]
