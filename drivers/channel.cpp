@@ -28,7 +28,7 @@ struct Options {
   std::string cells = "64", length, decomp;
   std::optional<double> t_end, slab, velocity_limit;
   std::optional<int> particles;
-  double G = 50.0, force = 1.0;
+  double G = 50.0, force = 1.0, solid_cutoff = 0.0;
   long steps = 50;
   int every = 10, progress = 0;
   std::string profile, series, centroids, csv;
@@ -102,7 +102,7 @@ int run(const Options& o) {
     throw ConfigError("--calibrate applies to a method with an iteration count per step (" + calibrated_methods() +
                       "), not --method " + c.method.name());
   if (o.max_sweeps < 1) throw ConfigError("--max-sweeps " + std::to_string(o.max_sweeps) + " must be at least 1");
-  apply_physics_options(o.G, o.force, c);
+  apply_physics_options(o.G, o.force, o.solid_cutoff, c);
   if (o.progress < 0) throw ConfigError("--progress " + std::to_string(o.progress) + " must be zero or positive");
   if (o.particles && *o.particles < 0)
     throw ConfigError("--particles " + std::to_string(*o.particles) + " must be zero or positive");
@@ -169,6 +169,9 @@ int main(int argc, char** argv) {
   app.add_option("--t-end", o.t_end, "run to this time instead of --steps")->excludes(steps);
   app.add_option("--G", o.G, "shear modulus")->capture_default_str();
   app.add_option("--force", o.force, "driving pressure gradient along x")->capture_default_str();
+  app.add_option("--solid-cutoff", o.solid_cutoff,
+                 "reset Bt to unstrained where phi is below this (interface debris; 0: the paper's method)")
+      ->capture_default_str();
   app.add_option("--particles", o.particles,
                  "first K lattice sites (0: none; default: all sites when the box is whole 3.6 lattice cells)");
   app.add_option("--slab", o.slab, "layered case: solid for A < y < Ly - A");

@@ -65,11 +65,14 @@ void check_time_step_value(double dt, const char* option) {
   if (!(dt > 0) || !std::isfinite(dt)) throw ConfigError(std::string(option) + " " + std::to_string(dt) + " must be a positive number");
 }
 
-void apply_physics_options(double G, double force, ChannelCase& c) {
+void apply_physics_options(double G, double force, double solid_cutoff, ChannelCase& c) {
   if (!std::isfinite(G) || G < 0) throw ConfigError("--G " + std::to_string(G) + " must be zero or positive");
   if (!std::isfinite(force)) throw ConfigError("--force " + std::to_string(force) + " must be a finite number");
+  if (!(solid_cutoff >= 0.0 && solid_cutoff < 1.0))
+    throw ConfigError("--solid-cutoff " + std::to_string(solid_cutoff) + " must be at least 0 and below 1");
   c.solver.physics.G = G;
   c.solver.physics.force = force;
+  c.solver.physics.solid_cutoff = solid_cutoff;
 }
 
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating) {

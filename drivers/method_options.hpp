@@ -50,8 +50,8 @@ long apply_scaling_defaults(const MethodOptions& o, ChannelCase& c, std::optiona
 // A positive, finite time step; throws ConfigError naming `option` and the value.
 void check_time_step_value(double dt, const char* option);
 
-// --G (zero or positive) and --force (finite) into c.solver.physics; throws ConfigError
-// naming the option and the value.
-void apply_physics_options(double G, double force, ChannelCase& c);
+// --G (zero or positive), --force (finite) and --solid-cutoff (0 to below 1) into
+// c.solver.physics; throws ConfigError naming the option and the value.
+void apply_physics_options(double G, double force, double solid_cutoff, ChannelCase& c);
 
 }  // namespace efsi

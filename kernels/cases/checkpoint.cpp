@@ -35,6 +35,7 @@ std::vector<std::pair<std::string, std::string>> checkpoint_configuration(const 
                          {"force", exact(ph.force)},
                          {"rho", exact(ph.rho)},
                          {"mu", exact(ph.mu)},
+                         {"solid cutoff", exact(ph.solid_cutoff)},
                          {"dt", exact(c.solver.dt)},
                          {"integrator", c.solver.integrator},
                          {"particles", std::to_string(c.particles)},

@@ -16,6 +16,7 @@ struct Physics {
   double mu = 1.0;     // viscosity of fluid and solid
   double G = 50.0;     // shear modulus of the neo-Hookean solid
   double force = 1.0;  // driving pressure gradient -dP/dx / Lx, along x
+  double solid_cutoff = 0.0;  // phi below which Bt is reset to unstrained (solid_cutoff.hpp); 0: none
 };
 
 // Widest stencil: WENO5 reads three neighbours each side.

@@ -6,6 +6,8 @@
 #include <limits>
 #include <string>
 
+#include "solid_cutoff.hpp"
+
 namespace efsi {
 
 FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
@@ -167,6 +169,7 @@ void FsiSolver::advance_solid(const Box& cells) {
   apply_tendency(state_.phi(), config_.dt, work_.phi_new, cells);
   for (int c = 0; c < 6; ++c)
     apply_tendency(state_.B(c), config_.dt, work_.B_new[c], owned_extent(work_.B_new[c], cells));
+  reset_solid_debris(state_.phi(), work_.phi_new, work_.B_new, config_.physics.solid_cutoff, cells);
 }
 
 void FsiSolver::blend_with_start(const IntegratorStage& stage) {

@@ -230,6 +230,15 @@ class Accuracy(DriverTestCase):
         self.assertAlmostEqual(kinetic["2"] / kinetic["1"], 4.0, delta=0.04)
         self.assertAlmostEqual(kinetic["0.5"] / kinetic["1"], 0.25, delta=0.0025)
 
+    def test_solid_cutoff_defaults_on_and_is_recorded(self):
+        # The accuracy case runs with the cut-off unless told otherwise; the checkpoint records it.
+        args = ["--cells", "32", "--length", "3.6", "--t-end", "0.002", "--methods", "acm", "--checkpoint", "ck.h5"]
+        for given, recorded in (([], b"0.01"), (["--solid-cutoff", "0"], b"0")):
+            with self.subTest(given=given):
+                self.run_ok(args + given)
+                with h5py.File(self.path("ck-acm.h5"), "r") as f:
+                    self.assertEqual(f.attrs["config solid cutoff"], recorded)
+
 
 class BadOptions(DriverTestCase):
     CASES = [
@@ -248,6 +257,9 @@ class BadOptions(DriverTestCase):
         ("accuracy", ["--out", "no_such_dir"], r"no_such_dir"),
         ("accuracy", ["--cells", "8", "--length", "3.6"], r"."),
         ("accuracy", ["--force", "nan"], r"--force"),
+        ("accuracy", ["--solid-cutoff", "1"], r"--solid-cutoff 1\.0+ must be at least 0 and below 1"),
+        ("accuracy", ["--solid-cutoff", "-0.01"], r"--solid-cutoff -0\.010*"),
+        ("accuracy", ["--solid-cutoff", "nan"], r"--solid-cutoff"),
     ]
 
     def test_one_line_exit_2_nothing_written(self):

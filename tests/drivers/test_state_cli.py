@@ -177,7 +177,7 @@ class Restart(StateTestCase):
         self.launch(BOX + ["--steps", "1", "--checkpoint", "ck.h5"])
         for change, key in ((["--dt", "1e-5"], "dt"), (["--G", "40"], "G"), (["--method", "fft"], "method"),
                             (["--cells", "32,32,64", "--length", "3.6,3.6,7.2"], "cells"),
-                            (["--integrator", "rk3"], "integrator")):
+                            (["--integrator", "rk3"], "integrator"), (["--solid-cutoff", "0.01"], "solid cutoff")):
             with self.subTest(key=key):
                 box = [] if key == "cells" else BOX
                 args = box + change + ["--steps", "4", "--restart", "ck.h5", "--csv", "run.csv"]

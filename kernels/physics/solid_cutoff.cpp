@@ -1,0 +1,48 @@
+// Why a cut-off: WENO transport smears a thin film of solid fraction (phi ~ 1e-4 .. 1e-2) off
+// every particle.  That film is fluid in all but name, yet it carries Bt = sqrt(phi) B with
+// the B of fluid sheared since t = 0, growing as (shear x t)^2, and the six components,
+// transported one by one, lose positive definiteness there.  An indefinite Bt is a negative
+// stiffness; in the paper's accuracy case it is what blows up, in the film between the
+// particles and the walls (docs/numerics.md, "Solid cut-off", has the figures).
+#include "solid_cutoff.hpp"
+
+#include <type_traits>
+
+#include "box_loops.hpp"
+#include "constitutive.hpp"
+#include "fsi_equations.hpp"
+#include "stencils.hpp"
+
+namespace efsi {
+namespace {
+
+void reset_normal(const Field& phi, const Field& phi_new, Field& b, double cutoff, const Box& cells) {
+  for_box(cells, [&](int i, int j, int k) {
+    const double old = b(i, j, k);
+    b(i, j, k) = phi(i, j, k) < cutoff ? sqrt_phi(phi_new(i, j, k)) : old;
+  });
+}
+
+template <int A, int B>
+void reset_shear(const Field& phi, Field& b, double cutoff, const Box& cells) {
+  constexpr Stagger T = tensor_location(A, B);
+  for_box(owned_extent(b, cells), [&](int i, int j, int k) {
+    const double old = b(i, j, k);
+    b(i, j, k) = average<Stagger::cell, T>(phi, i, j, k) < cutoff ? 0.0 : old;
+  });
+}
+
+}  // namespace
+
+void reset_solid_debris(const Field& phi, const Field& phi_new, std::array<Field, 6>& B_new, double cutoff,
+                        const Box& cells) {
+  if (!(cutoff > 0.0)) return;
+  reset_normal(phi, phi_new, B_new[0], cutoff, cells);
+  reset_normal(phi, phi_new, B_new[1], cutoff, cells);
+  reset_normal(phi, phi_new, B_new[2], cutoff, cells);
+  reset_shear<0, 1>(phi, B_new[3], cutoff, cells);
+  reset_shear<0, 2>(phi, B_new[4], cutoff, cells);
+  reset_shear<1, 2>(phi, B_new[5], cutoff, cells);
+}
+
+}  // namespace efsi
