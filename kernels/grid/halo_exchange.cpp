@@ -86,21 +86,31 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
     recv_off_[d] = recv_total;
     for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
       const Field& f = *fields_[fi];
+      const Box in = recv_box(f, s);
+      const int len = in.hi[X] - in.lo[X], rows = in.hi[Y] - in.lo[Y];
+      if (peer_[d] == self_) {
+        // This rank's own points across the box: what its opposite face sends.
+        const Box out = send_box(f, {-s[0], -s[1], -s[2]});
+        for (int k = in.lo[Z], ks = out.lo[Z]; k < in.hi[Z]; ++k, ++ks)
+          self_runs_.push_back(
+              SelfRun{fi, len, rows, f.index(out.lo[X], out.lo[Y], ks), f.index(in.lo[X], in.lo[Y], k), f.stride_y()});
+        const std::size_t n = static_cast<std::size_t>(len) * rows * (in.hi[Z] - in.lo[Z]);
+        send_total += n, recv_total += n;  // counted, never buffered
+        continue;
+      }
       auto add_runs = [&](const Box& b, std::vector<Run>& runs, std::size_t& total) {
-        const int len = b.hi[X] - b.lo[X], rows = b.hi[Y] - b.lo[Y];
+        const int blen = b.hi[X] - b.lo[X], brows = b.hi[Y] - b.lo[Y];
         for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
-          runs.push_back(Run{fi, len, rows, f.index(b.lo[X], b.lo[Y], k), f.stride_y(), total});
-          total += static_cast<std::size_t>(len) * static_cast<std::size_t>(rows);
+          runs.push_back(Run{fi, blen, brows, f.index(b.lo[X], b.lo[Y], k), f.stride_y(), total});
+          total += static_cast<std::size_t>(blen) * static_cast<std::size_t>(brows);
         }
       };
       add_runs(send_box(f, s), send_runs_, send_total);
-      const std::size_t first = recv_runs_.size();
-      add_runs(recv_box(f, s), recv_runs_, recv_total);
-      for (std::size_t r = first; r < recv_runs_.size(); ++r)
-        (peer_[d] == self_ ? self_recv_runs_ : remote_recv_runs_).push_back(r);
+      add_runs(in, recv_runs_, recv_total);
     }
     send_count_[d] = send_total - send_off_[d];
     recv_count_[d] = recv_total - recv_off_[d];
+    if (peer_[d] == self_) send_total = send_off_[d], recv_total = recv_off_[d];
     if (send_count_[d] > static_cast<std::size_t>(INT_MAX))
       throw ConfigError("halo message of " + std::to_string(send_count_[d]) +
                         " values exceeds the MPI count limit " + std::to_string(INT_MAX));
@@ -173,32 +183,29 @@ void HaloExchange::pack() {
 }
 
 void HaloExchange::copy_self() {
-  for (int d = 0; d < kDirs; ++d)
-    if (peer_[d] == self_ && peer_[d] != MPI_PROC_NULL)
-      std::memcpy(recv_buf_.data() + recv_off_[d], send_buf_.data() + send_off_[opposite(d)],
-                  sizeof(double) * recv_count_[d]);
-}
-
-void HaloExchange::unpack_self() {
-  RegionTimers::Scope t(timers_, Region::halo_unpack);
-  for (std::size_t r : self_recv_runs_) {
-    const Run& run = recv_runs_[r];
-    copy_block<false>(fields_[run.field]->data() + run.index, recv_buf_.data() + run.buf, run.len, run.rows,
-                      run.stride);
+  const std::size_t nr = self_runs_.size();
+  Field* const* f = fields_.data();
+#pragma omp parallel for schedule(static)
+  for (std::size_t r = 0; r < nr; ++r) {
+    const SelfRun& run = self_runs_[r];
+    double* base = f[run.field]->data();
+    const double* src = base + run.src;
+    double* dst = base + run.dst;
+    for (int m = 0; m < run.rows; ++m, src += run.stride, dst += run.stride) copy_run(dst, src, run.len);
   }
 }
 
-void HaloExchange::unpack_and_walls(bool self_done) {
+void HaloExchange::unpack_and_walls() {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
   double* buf = recv_buf_.data();
-  const std::size_t nr = self_done ? remote_recv_runs_.size() : recv_runs_.size();
+  const std::size_t nr = recv_runs_.size();
   const std::size_t nz = wall_zero_.size(), nm = wall_mirror_.size();
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
     for (std::size_t r = 0; r < nr; ++r) {
-      const Run& run = recv_runs_[self_done ? remote_recv_runs_[r] : r];
+      const Run& run = recv_runs_[r];
       copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
     // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
@@ -260,7 +267,6 @@ void HaloExchange::begin() {
     pack();
     copy_self();
   }
-  unpack_self();
   RegionTimers::Scope t(timers_, Region::halo_mpi);
   for (int d = 0; d < kDirs; ++d) {
     if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
@@ -284,7 +290,7 @@ void HaloExchange::finish() {
     MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
   }
   in_flight_ = false;
-  unpack_and_walls(true);
+  unpack_and_walls();
 }
 
 }  // namespace efsi

@@ -61,6 +61,12 @@ class HaloExchange {
     std::ptrdiff_t index, stride;
     std::size_t buf;  // the runs lie back to back in the buffer from here
   };
+  struct SelfRun {  // `rows` x-runs of `len` points copied within one field, owned -> ghost
+    int field;
+    int len;
+    int rows;
+    std::ptrdiff_t src, dst, stride;
+  };
   struct WallRun {  // dst = sign * src over len points (sign 0: set to zero)
     int field;
     std::ptrdiff_t dst, src;
@@ -70,11 +76,12 @@ class HaloExchange {
 
   void build_runs(const CartDecomposition& decomp);
   void build_walls(const CartDecomposition& decomp);
+  // The remote directions' points into the send buffer.
   void pack();
+  // The ghosts whose neighbour is this rank, straight from its own points: no buffer.
   void copy_self();
-  void unpack_self();
-  // All received ghosts, or (after begin() unpacked them) all but the self-neighbour ones.
-  void unpack_and_walls(bool self_done = false);
+  // The remote directions' ghosts from the receive buffer, then the walls.
+  void unpack_and_walls();
 
   std::vector<Field*> fields_;
   Reach reach_;
@@ -83,8 +90,8 @@ class HaloExchange {
   MPI_Comm comm_ = MPI_COMM_NULL;
   int peer_[kDirs];
   std::size_t send_off_[kDirs]{}, send_count_[kDirs]{}, recv_off_[kDirs]{}, recv_count_[kDirs]{};
-  std::vector<Run> send_runs_, recv_runs_;
-  std::vector<std::size_t> self_recv_runs_, remote_recv_runs_;  // indices into recv_runs_
+  std::vector<Run> send_runs_, recv_runs_;  // remote directions only
+  std::vector<SelfRun> self_runs_;
   std::vector<WallRun> wall_zero_, wall_mirror_;
   std::vector<double> send_buf_, recv_buf_;
   std::vector<MPI_Request> requests_;
