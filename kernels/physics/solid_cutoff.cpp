@@ -6,7 +6,6 @@
 // particles and the walls (docs/numerics.md, "Solid cut-off", has the figures).
 #include "solid_cutoff.hpp"
 
-
 #include "box_loops.hpp"
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
