@@ -183,15 +183,16 @@ void BM_AcmIncrement(benchmark::State& state, int n) {
   bench::time_kernel(state, k.cost(kAcmMoments + kAcmUpdate), 1, [&] { acm.increment(in); });
 }
 
-// kSorSweep (64 B, 14 flops) + the halo exchanges of x: 4 per sweep, plus the one at the
-// start of each call (sweeps(rhs, 10): 4.1 per sweep).
+// sor_sweep_cost (16 B per pass, 14 flops) + the halo exchanges of x: one per pass (4, or 2
+// with x whole), plus the one at the start of each call (sweeps(rhs, 10)).
 void BM_SorSweep(benchmark::State& state, int n, CommMode mode) {
   KernelSetup& k = kernel_setup(n);
   SorPoisson sor(*k.ch.dec, k.ch.c.domain, k.work.dp, mode, &k.timers);
   const double factor = 1.0 / k.dt();
   sor.sweeps(k.work.div, 1, factor);  // warm-up: MPI connections, first pass
-  const PerCell halo{(4.0 * kSorSweeps + 1) / kSorSweeps * halo_bytes_per_cell(sor.halo(), k.cells()), 0};
-  KernelCost cost = k.cost(kSorSweep + halo);
+  const int passes = sor_passes_per_sweep(k.ch.dec->dims());
+  const PerCell halo{(double(passes) * kSorSweeps + 1) / kSorSweeps * halo_bytes_per_cell(sor.halo(), k.cells()), 0};
+  KernelCost cost = k.cost(sor_sweep_cost(passes) + halo);
   cost.units = kSorSweeps;  // times and counters per sweep
   bench::time_kernel(state, cost, 1, [&] { sor.sweeps(k.work.div, kSorSweeps, factor); });
 }
@@ -216,7 +217,7 @@ void BM_MgSolve(benchmark::State& state, int n) {
   const MgStop stop{1e-3, 1000};
   mg.solve(k.work.div, k.work.dp, factor, stop);  // warm-up
   const MethodChoice mg_choice = configure_method("mg", {}, std::nullopt);
-  const IncrementWork w = mg_choice.spec->increment_work(mg_choice, k.ch.dec->global());
+  const IncrementWork w = mg_choice.spec->increment_work(mg_choice, k.ch.dec->global(), k.ch.dec->dims());
   bench::time_kernel(state, k.cost(w.kernels), 1, [&] { mg.solve(k.work.div, k.work.dp, factor, stop); });
 }
 
@@ -255,10 +256,10 @@ void BM_GlobalReduction(benchmark::State& state) {
 //   exchanges of a cell field's faces;
 //   + nc Crank-Nicolson sweeps when the method has them (each a v* exchange of 26
 //   neighbours and a tau exchange of faces, one more v* exchange at the end).
-PerCell step_cost(const StepCase& m, const Int3& global, const StepHalos& h) {
+PerCell step_cost(const StepCase& m, const Int3& global, const Int3& dims, const StepHalos& h) {
   PerCell c = bench::kStress + bench::kMomentum + bench::kTransport + bench::kDivergence + bench::kProject;
   c = c + PerCell{h.state + h.vstar_faces + h.cell_faces, 0};
-  const IncrementWork inc = m.choice.spec->increment_work(m.choice, global);
+  const IncrementWork inc = m.choice.spec->increment_work(m.choice, global, dims);
   c = c + inc.kernels + PerCell{inc.cell_face_exchanges * h.cell_faces, 0};
   const int nc = m.choice.cn_sweeps;
   if (nc > 0) c = c + bench::crank_nicolson_cost(nc) + PerCell{nc * (h.vstar_full + h.tau_faces) + h.vstar_full, 0};
@@ -276,7 +277,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
     g_step->solver->step();  // warm-up: first touch, FFTW and MPI set-up
   }
   FsiSolver& solver = *g_step->solver;
-  bench::time_kernel(state, k.cost(step_cost(m, g_step->dec->global(), k.halos)), 1, [&] { solver.step(); });
+  bench::time_kernel(state, k.cost(step_cost(m, g_step->dec->global(), g_step->dec->dims(), k.halos)), 1, [&] { solver.step(); });
 }
 
 [[maybe_unused]] const bool kRegistered = [] {

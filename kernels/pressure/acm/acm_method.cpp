@@ -17,7 +17,7 @@ class AcmSpec final : public MethodSpec {
   std::unique_ptr<PressureMethod> make(const MethodChoice&, const MethodBuild&) const override {
     return std::make_unique<AcmPressure>();
   }
-  IncrementWork increment_work(const MethodChoice&, const Int3&) const override {
+  IncrementWork increment_work(const MethodChoice&, const Int3&, const Int3&) const override {
     return {kAcmMoments + kAcmUpdate, 0};
   }
 };

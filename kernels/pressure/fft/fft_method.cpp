@@ -40,7 +40,7 @@ class FftSpec final : public MethodSpec {
   // across ranks instead of four (1.28x on a 128^3 channel on 2 ranks).
   Int3 preferred_rank_grid() const override { return {1, 0, 0}; }
   // One solve, then the exchange of dp's faces for the projection.
-  IncrementWork increment_work(const MethodChoice&, const Int3& global) const override {
+  IncrementWork increment_work(const MethodChoice&, const Int3& global, const Int3&) const override {
     return {fft_solve_cost(global[X], global[Z]), 1};
   }
 };

@@ -132,7 +132,7 @@ class MgSpec final : public MethodSpec {
 
   // hypre's own counts are not modelled: its increment counts as the right-hand side and
   // the result copied in and out (8 B in, 8 B out, 8 B each way through its vectors).
-  IncrementWork increment_work(const MethodChoice&, const Int3&) const override { return {{32, 2}, 1}; }
+  IncrementWork increment_work(const MethodChoice&, const Int3&, const Int3&) const override { return {{32, 2}, 1}; }
 };
 
 }  // namespace

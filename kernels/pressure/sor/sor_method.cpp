@@ -89,12 +89,16 @@ class SorSpec final : public MethodSpec {
 
   void check_grid(const Int3& cells) const override { check_sor_grid(cells); }
 
-  // dp cleared, N_S sweeps of four colours, each colour followed by an exchange of x's
-  // faces, and one exchange before the first.
-  IncrementWork increment_work(const MethodChoice& choice, const Int3&) const override {
+  // dp cleared, N_S sweeps of four colours in 2 or 4 passes, each pass followed by an
+  // exchange of x's faces, and one exchange before the first.
+  IncrementWork increment_work(const MethodChoice& choice, const Int3&, const Int3& dims) const override {
     const double ns = choice.value("ns");
-    return {kFill + ns * kSorSweep, 4 * ns + 1};
+    const int passes = sor_passes_per_sweep(dims);
+    return {kFill + ns * sor_sweep_cost(passes), passes * ns + 1};
   }
+
+  // x whole: colours 0 and 1 (2 and 3) share a pass and an exchange (sor_work.hpp).
+  Int3 preferred_rank_grid() const override { return {1, 0, 0}; }
 
   std::optional<CalibratedCount> calibrated_count() const override {
     return CalibratedCount{"--ns", "sweeps", "SOR (omega " + format_value(paper::kSorOmega) + ") from dp = 0"};

@@ -1,9 +1,11 @@
 #include "sor_poisson.hpp"
 
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "laplacian.hpp"
+#include "sor_work.hpp"
 #include "config_error.hpp"
 
 namespace efsi {
@@ -75,6 +77,12 @@ SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Fi
       (side < 0 ? inner_.lo[a] : inner_.hi[a]) = side < 0 ? 1 : n[a] - 1;
     }
   if (inner_.empty()) inner_ = Box{};  // for_each_shell_box: everything is boundary
+  // Colours 0 and 1 (and 2 and 3) share their rows and meet only along x: where x is whole
+  // on this rank, a row can take both in one pass, the second after the row's own ends
+  // are copied into its x ghosts. The values are those of four separate passes, bit for
+  // bit, with half the passes over memory and half the exchanges.
+  if (sor_fuses_colour_pairs(decomp.dims())) stages_ = {{0, true}, {2, true}};
+  else stages_ = {{0, false}, {1, false}, {2, false}, {3, false}};
 }
 
 // One point's SOR update: the single formula every loop below uses, so that rows and
@@ -88,11 +96,22 @@ struct SorStencil {
   }
 };
 
-void SorPoisson::update(const Field& rhs, double factor, int colour, const Box& b) {
+void SorPoisson::update(const Field& rhs, double factor, const Stage& stage, const Box& b) {
   if (b.empty()) return;
-  if (b.hi[X] - b.lo[X] <= 2) return update_columns(rhs, factor, colour, b);
+  if (stage.pair) {
+    if (b.lo[X] != 0 || b.hi[X] != x_.n()[X])
+      throw std::logic_error("SorPoisson: a fused colour pair needs rows spanning the whole x extent");
+    return update_rows<true>(rhs, factor, stage.colour, b);
+  }
+  if (b.hi[X] - b.lo[X] <= 2) return update_columns(rhs, factor, stage.colour, b);
+  update_rows<false>(rhs, factor, stage.colour, b);
+}
+
+template <bool kPair>
+void SorPoisson::update_rows(const Field& rhs, double factor, int colour, const Box& b) {
   const int px = colour & 1, pyz = colour >> 1;
   const Int3& off = x_.offset();
+  const int nx = x_.n()[X];
   const SorStencil st{inv_h2_[X], inv_h2_[Z], 1.0 - omega_, x_.stride_y(), x_.stride_z()};
   double* const xd = x_.data();
   const double* const rd = rhs.data();
@@ -101,16 +120,24 @@ void SorPoisson::update(const Field& rhs, double factor, int colour, const Box& 
   for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
     for (int j = b.lo[Y]; j < b.hi[Y]; ++j) {
       if (((off[Y] + j + off[Z] + k) & 1) != pyz) continue;
-      int i0 = b.lo[X];
-      if (((off[X] + i0) & 1) != px) ++i0;
       double* const r = xd + x_.index(0, j, k);
       const double* const f = same_layout ? rd + rhs.index(0, j, k) : nullptr;
       const double wlo = wy_lo_[j], whi = wy_hi_[j], wd = omega_over_diag_[j];
-      if (same_layout) {
+      for (int c = 0; c < (kPair ? 2 : 1); ++c) {
+        if (c == 1) {
+          // The row is the whole periodic x extent (sor_fuses_colour_pairs): its own ends
+          // are its x ghosts, as the exchange between the two colours would have set them.
+          r[-1] = r[nx - 1];
+          r[nx] = r[0];
+        }
+        int i0 = b.lo[X];
+        if (((off[X] + i0) & 1) != (px ^ c)) ++i0;
+        if (same_layout) {
 #pragma omp simd
-        for (int i = i0; i < b.hi[X]; i += 2) r[i] = st.apply(r + i, factor * f[i], wlo, whi, wd);
-      } else {
-        for (int i = i0; i < b.hi[X]; i += 2) r[i] = st.apply(r + i, factor * rhs(i, j, k), wlo, whi, wd);
+          for (int i = i0; i < b.hi[X]; i += 2) r[i] = st.apply(r + i, factor * f[i], wlo, whi, wd);
+        } else {
+          for (int i = i0; i < b.hi[X]; i += 2) r[i] = st.apply(r + i, factor * rhs(i, j, k), wlo, whi, wd);
+        }
       }
     }
   }
@@ -136,7 +163,7 @@ void SorPoisson::update_columns(const Field& rhs, double factor, int colour, con
   }
 }
 
-void SorPoisson::update_interior(const Field& rhs, double factor, int colour) {
+void SorPoisson::update_interior(const Field& rhs, double factor, const Stage& stage) {
   // In slabs of k, with a progress call after each, so that the exchange in flight moves
   // while the interior is updated (the colour of a point does not depend on the slab).
   constexpr int kSlabs = 8;
@@ -148,15 +175,15 @@ void SorPoisson::update_interior(const Field& rhs, double factor, int colour) {
     slab.hi[Z] = inner_.lo[Z] + nk * (s + 1) / kSlabs;
     {
       RegionTimers::Scope t(timers_, kSorSweepsRegion);
-      update(rhs, factor, colour, slab);
+      update(rhs, factor, stage, slab);
     }
     halo_.progress();
   }
 }
 
-void SorPoisson::update_boundary(const Field& rhs, double factor, int colour) {
+void SorPoisson::update_boundary(const Field& rhs, double factor, const Stage& stage) {
   RegionTimers::Scope t(timers_, kSorSweepsRegion);
-  for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, factor, colour, b); });
+  for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, factor, stage, b); });
 }
 
 void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
@@ -165,21 +192,21 @@ void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
   if (comm_ == CommMode::sync || halo_.messages_sent() == 0) {
     halo_.exchange();
     for (int s = 0; s < n; ++s)
-      for (int c = 0; c < 4; ++c) {
+      for (const Stage& stage : stages_) {
         {
           RegionTimers::Scope t(timers_, kSorSweepsRegion);
-          update(rhs, factor, c, owned_);
+          update(rhs, factor, stage, owned_);
         }
         halo_.exchange();
       }
   } else {
-    // The exchange in flight always carries the previous colour (or the caller's field).
+    // The exchange in flight always carries the previous stage (or the caller's field).
     halo_.begin();
     for (int s = 0; s < n; ++s)
-      for (int c = 0; c < 4; ++c) {
-        update_interior(rhs, factor, c);
+      for (const Stage& stage : stages_) {
+        update_interior(rhs, factor, stage);
         halo_.finish();
-        update_boundary(rhs, factor, c);
+        update_boundary(rhs, factor, stage);
         halo_.begin();
       }
     halo_.finish();

@@ -10,11 +10,13 @@
 // w = 1/h^2 per axis; at a wall the neighbour across it is dropped (weight 0 and a smaller
 // diagonal), which is the exact Gauss-Seidel update for the zero-flux operator.  Each
 // colour reads only other colours, so the field after n sweeps is bitwise the same on
-// every decomposition, every thread count, and in both communication modes:
-//   sync:  a blocking halo exchange (Reach::faces) of x after every colour;
-//   async: begin() the exchange of the colour just updated, update the next colour's
+// every decomposition, every thread count, and in both communication modes.  With x whole
+// on the rank, colours 0-1 and 2-3 each go in one pass over their rows (a row's ends are
+// its own x ghosts); otherwise each colour is a pass.  After every pass:
+//   sync:  a blocking halo exchange (Reach::faces) of x;
+//   async: begin() the exchange of the pass just done, update the next pass's
 //          interior points while it flies (in k-slabs with MPI_Testall between them),
-//          finish(), then update that colour's points next to a face whose neighbour is
+//          finish(), then update that pass's points next to a face whose neighbour is
 //          another rank. Faces at a wall (zero weight) or on the rank's own periodic wrap
 //          (ghosts copied in begin()) need no wait. The timers show the overlap: halo_wait
 //          (the final wait) against the sync mode's blocking halo_mpi.
@@ -62,10 +64,18 @@ class SorPoisson {
   const HaloExchange& halo() const { return halo_; }
 
  private:
-  void update(const Field& rhs, double factor, int colour, const Box& box);
+  // The colours updated between two exchanges: `colour` alone, or with colour + 1 in the
+  // same pass over each row (pair).
+  struct Stage {
+    int colour;
+    bool pair;
+  };
+  void update(const Field& rhs, double factor, const Stage& stage, const Box& box);
+  template <bool kPair>
+  void update_rows(const Field& rhs, double factor, int colour, const Box& box);
   void update_columns(const Field& rhs, double factor, int colour, const Box& box);
-  void update_interior(const Field& rhs, double factor, int colour);
-  void update_boundary(const Field& rhs, double factor, int colour);
+  void update_interior(const Field& rhs, double factor, const Stage& stage);
+  void update_boundary(const Field& rhs, double factor, const Stage& stage);
 
   const CartDecomposition& decomp_;
   Field& x_;
@@ -76,6 +86,7 @@ class SorPoisson {
   // Per local j: weights of the y neighbours below/above (0 across a wall) and omega / diag.
   std::vector<double> wy_lo_, wy_hi_, omega_over_diag_;
   Box owned_, inner_;
+  std::vector<Stage> stages_;
   HaloExchange halo_;
 };
 

@@ -126,9 +126,9 @@ class MethodSpec {
   virtual std::unique_ptr<IterationCounter> iteration_counter(const CartDecomposition&, const Domain&) const {
     return nullptr;
   }
-  // One increment's work on a `global` grid under `choice` (Crank-Nicolson apart: the step
-  // counts its choice.cn_sweeps itself).
-  virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global) const = 0;
+  // One increment's work on a `global` grid split `dims` ways under `choice` (Crank-Nicolson
+  // apart: the step counts its choice.cn_sweeps itself).
+  virtual IncrementWork increment_work(const MethodChoice& choice, const Int3& global, const Int3& dims) const = 0;
 };
 
 }  // namespace efsi

@@ -1,7 +1,8 @@
 // Four-colour SOR (docs/numerics.md, "SMAC") on every decomposition the started rank count can make
 // of a few small grids: sync and async leave bitwise the same field; the field after N
 // sweeps is bitwise the same on every decomposition and equal to a one-rank run on
-// MPI_COMM_SELF; with a manufactured right-hand side the residual falls by many orders
+// MPI_COMM_SELF (the one-rank run and every 1 x PY x PZ grid take colours 0-1 and 2-3 in one
+// pass each, grids that split x four passes, so this compares the two paths); with a manufactured right-hand side the residual falls by many orders
 // and x approaches the exact solution (up to its mean); the colouring gives each colour a
 // quarter of the cells and no two face neighbours the same colour, across rank
 // boundaries and the periodic wrap; odd periodic counts are refused.  One information-
