@@ -57,23 +57,34 @@ inline void advection_line(const FieldSet& s, const Inv& inv, const Field& q, co
   (along(l, [&](int t, int i, int j, int k) { adv[t] += weno_advection<T, M>(s, inv, q, i, j, k); }), ...);
 }
 
+// dBt_AB/dt = (L.Bt + Bt.L^T)_AB - v.grad Bt_AB on line l (adv, uc: 2 l.n).  On a wall face
+// row v = 0 exactly, and the y stencil would reach past the ghosts.
+template <int A, int B, class Ln>
+inline void component_line(const FieldSet& s, const Inv& inv, Field& out, const Ln& l, bool wall, double* adv) {
+  constexpr Stagger T = tensor_location(A, B);
+  const Field& q = s.B(A, B);
+  double* uc = adv + l.n;
+  if (wall) advection_line<T, X, Z>(s, inv, q, l, adv);
+  else advection_line<T, X, Z, Y>(s, inv, q, l, adv);
+  stretching_line<A, B>(s, inv, l, uc);
+  along(l, [&](int t, int i, int j, int k) { out(i, j, k) = uc[t] - adv[t]; });
+}
+
+template <class Ln>
+inline void phi_line(const FieldSet& s, const Inv& inv, Field& dphidt, const Ln& l, double* adv) {
+  advection_line<Stagger::cell, X, Y, Z>(s, inv, s.phi(), l, adv);
+  along(l, [&](int t, int i, int j, int k) { dphidt(i, j, k) = -adv[t]; });
+}
+
 template <int A, int B>
 void transport_component(const FieldSet& s, Field& out, const Box& cells) {
   const Inv inv(s.domain());
   constexpr Stagger T = tensor_location(A, B);
-  const Field& q = s.B(A, B);
   // The top wall face of a field staggered in y is owned (see field.hpp).
-  const Box box = owned_extent(q, cells);
+  const Box box = owned_extent(s.B(A, B), cells);
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   auto pieces = [&](const Box& b, bool wall) {
-    for_lines<2>(b, [&](const auto& l, double* adv) {
-      double* uc = adv + l.n;
-      // On a wall face v = 0 exactly, and the y stencil would reach past the ghosts.
-      if (wall) advection_line<T, X, Z>(s, inv, q, l, adv);
-      else advection_line<T, X, Z, Y>(s, inv, q, l, adv);
-      stretching_line<A, B>(s, inv, l, uc);
-      along(l, [&](int t, int i, int j, int k) { out(i, j, k) = uc[t] - adv[t]; });
-    });
+    for_lines<2>(b, [&](const auto& l, double* adv) { component_line<A, B>(s, inv, out, l, wall, adv); });
   };
   if constexpr (is_staggered(T, Y)) split_wall_rows(box, wall_lo, wall_hi, pieces);
   else pieces(box, false);
@@ -88,67 +99,91 @@ void stretching_component(const FieldSet& s, double dt, const Field& base, Field
   });
 }
 
-// tau_AB (A != B) from s's velocity and Bt* = base + dt (L.Bt + Bt.L^T)_AB, Bt* kept in the line.
-template <int A, int B>
-void stretched_shear_component(const FieldSet& s, const Physics& ph, double dt, const Field& base, const Field& root,
-                               Field& tau, const Box& cells) {
-  const Inv inv(s.domain());
+// tau_AB (A != B) on line l from s's velocity and Bt* = base + dt (L.Bt + Bt.L^T)_AB, Bt*
+// kept in the line.
+template <int A, int B, class Ln>
+inline void stretched_shear_line(const FieldSet& s, const Inv& inv, double two_mu, double G, double dt,
+                                 const Field& base, const Field& root, Field& tau, const Ln& l, double* uc) {
   constexpr Stagger T = tensor_location(A, B);
-  const double two_mu = 2.0 * ph.mu, G = ph.G;
   const auto r = [&root](int a, int b, int c) { return root(a, b, c); };
-  for_lines<1>(owned_extent(tau, cells), [&](const auto& l, double* uc) {
-    stretching_line<A, B>(s, inv, l, uc);
-    along(l, [&](int t, int i, int j, int k) {
-      const double b_star = base(i, j, k) + dt * uc[t];
-      tau(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_shear_over_G<T>(r, b_star, i, j, k);
-    });
+  stretching_line<A, B>(s, inv, l, uc);
+  along(l, [&](int t, int i, int j, int k) {
+    const double b_star = base(i, j, k) + dt * uc[t];
+    tau(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_shear_over_G<T>(r, b_star, i, j, k);
   });
 }
 
-// tau_11, tau_22, tau_33 likewise: each needs the three diagonal Bt* for the trace.
-void stretched_normal_components(const FieldSet& s, const Physics& ph, double dt, const std::array<Field, 6>& base,
-                                 const Field& root, std::array<Field, 6>& tau, const Box& cells) {
-  const Inv inv(s.domain());
-  const double two_mu = 2.0 * ph.mu, G = ph.G;
-  for_lines<3>(cells, [&](const auto& l, double* uc) {
-    double* const u[3] = {uc, uc + l.n, uc + 2 * l.n};
-    stretching_line<0, 0>(s, inv, l, u[0]);
-    stretching_line<1, 1>(s, inv, l, u[1]);
-    stretching_line<2, 2>(s, inv, l, u[2]);
-    auto normal = [&](auto a_tag) {
-      constexpr int A = decltype(a_tag)::value;
-      along(l, [&](int t, int i, int j, int k) {
-        const double b0 = base[0](i, j, k) + dt * u[0][t], b1 = base[1](i, j, k) + dt * u[1][t],
-                     b2 = base[2](i, j, k) + dt * u[2][t];
-        const double b_aa = A == 0 ? b0 : A == 1 ? b1 : b2;
-        tau[A](i, j, k) = two_mu * strain_rate<A, A>(s, inv, i, j, k) +
-                          G * solid_normal_over_G(root(i, j, k), b_aa, b0, b1, b2);
-      });
-    };
-    normal(std::integral_constant<int, 0>{});
-    normal(std::integral_constant<int, 1>{});
-    normal(std::integral_constant<int, 2>{});
-  });
+// tau_11, tau_22, tau_33 likewise: each needs the three diagonal Bt* for the trace (uc: 3 l.n).
+template <class Ln>
+inline void stretched_normal_line(const FieldSet& s, const Inv& inv, double two_mu, double G, double dt,
+                                  const std::array<Field, 6>& base, const Field& root, std::array<Field, 6>& tau,
+                                  const Ln& l, double* uc) {
+  double* const u[3] = {uc, uc + l.n, uc + 2 * l.n};
+  stretching_line<0, 0>(s, inv, l, u[0]);
+  stretching_line<1, 1>(s, inv, l, u[1]);
+  stretching_line<2, 2>(s, inv, l, u[2]);
+  auto normal = [&](auto a_tag) {
+    constexpr int A = decltype(a_tag)::value;
+    along(l, [&](int t, int i, int j, int k) {
+      const double b0 = base[0](i, j, k) + dt * u[0][t], b1 = base[1](i, j, k) + dt * u[1][t],
+                   b2 = base[2](i, j, k) + dt * u[2][t];
+      const double b_aa = A == 0 ? b0 : A == 1 ? b1 : b2;
+      tau[A](i, j, k) = two_mu * strain_rate<A, A>(s, inv, i, j, k) + G * solid_normal_over_G(root(i, j, k), b_aa, b0, b1, b2);
+    });
+  };
+  normal(std::integral_constant<int, 0>{});
+  normal(std::integral_constant<int, 1>{});
+  normal(std::integral_constant<int, 2>{});
 }
 
 void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
   const Inv inv(s.domain());
-  for_lines<1>(cells, [&](const auto& l, double* adv) {
-    advection_line<Stagger::cell, X, Y, Z>(s, inv, s.phi(), l, adv);
-    along(l, [&](int t, int i, int j, int k) { dphidt(i, j, k) = -adv[t]; });
-  });
+  for_lines<1>(cells, [&](const auto& l, double* adv) { phi_line(s, inv, dphidt, l, adv); });
 }
 
 }  // namespace
 
 void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells) {
-  phi_transport(s, dphidt, cells);
-  transport_component<0, 0>(s, dBdt[0], cells);
-  transport_component<1, 1>(s, dBdt[1], cells);
-  transport_component<2, 2>(s, dBdt[2], cells);
-  transport_component<0, 1>(s, dBdt[3], cells);
-  transport_component<0, 2>(s, dBdt[4], cells);
-  transport_component<1, 2>(s, dBdt[5], cells);
+  if (cells.empty()) return;
+  if (lines_along_y(cells)) {  // a thin shell box: lines along y cross the wall rows
+    phi_transport(s, dphidt, cells);
+    transport_component<0, 0>(s, dBdt[0], cells);
+    transport_component<1, 1>(s, dBdt[1], cells);
+    transport_component<2, 2>(s, dBdt[2], cells);
+    transport_component<0, 1>(s, dBdt[3], cells);
+    transport_component<0, 2>(s, dBdt[4], cells);
+    transport_component<1, 2>(s, dBdt[5], cells);
+    return;
+  }
+  // All seven fields line by line: the rows of v and Bt a line reads serve every field
+  // while they are in cache (field by field, each whole pass brought them again from memory).
+  const Inv inv(s.domain());
+  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+  for_lines<2>(cells, [&](const auto& l, double* adv) {
+    // Lines run along x here: a line is one row j.
+    const bool wall = l.j == wall_lo || l.j == wall_hi;
+    phi_line(s, inv, dphidt, l, adv);
+    component_line<0, 0>(s, inv, dBdt[0], l, false, adv);
+    component_line<1, 1>(s, inv, dBdt[1], l, false, adv);
+    component_line<2, 2>(s, inv, dBdt[2], l, false, adv);
+    component_line<0, 1>(s, inv, dBdt[3], l, wall, adv);
+    component_line<0, 2>(s, inv, dBdt[4], l, false, adv);
+    component_line<1, 2>(s, inv, dBdt[5], l, wall, adv);
+  });
+  // The owned top wall faces of the components staggered in y, beyond `cells`.
+  auto top_face = [&](auto a_tag, auto b_tag, int c) {
+    constexpr int A = decltype(a_tag)::value, B = decltype(b_tag)::value;
+    const Box ext = owned_extent(dBdt[c], cells);
+    if (ext.hi[Y] == cells.hi[Y]) return;
+    Box top = ext;
+    top.lo[Y] = cells.hi[Y];
+    transport_component<A, B>(s, dBdt[c], top);
+  };
+  using I0 = std::integral_constant<int, 0>;
+  using I1 = std::integral_constant<int, 1>;
+  using I2 = std::integral_constant<int, 2>;
+  top_face(I0{}, I1{}, 3);
+  top_face(I1{}, I2{}, 5);
 }
 
 void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
@@ -163,11 +198,34 @@ void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& ba
 
 void stretched_stress_owned(const FieldSet& s, const Physics& ph, double dt, const std::array<Field, 6>& base,
                             const Field& root, std::array<Field, 6>& tau) {
+  const Inv inv(s.domain());
+  const double two_mu = 2.0 * ph.mu, G = ph.G;
   const Box owned{{0, 0, 0}, s.decomp().local()};
-  stretched_normal_components(s, ph, dt, base, root, tau, owned);
-  stretched_shear_component<0, 1>(s, ph, dt, base[3], root, tau[3], owned);
-  stretched_shear_component<0, 2>(s, ph, dt, base[4], root, tau[4], owned);
-  stretched_shear_component<1, 2>(s, ph, dt, base[5], root, tau[5], owned);
+  // All six components line by line: the rows of v and Bt a line reads serve every
+  // component while they are in cache (component by component, each whole pass brought
+  // them again from memory).
+  for_lines<3>(owned, [&](const auto& l, double* uc) {
+    stretched_normal_line(s, inv, two_mu, G, dt, base, root, tau, l, uc);
+    stretched_shear_line<0, 1>(s, inv, two_mu, G, dt, base[3], root, tau[3], l, uc);
+    stretched_shear_line<0, 2>(s, inv, two_mu, G, dt, base[4], root, tau[4], l, uc);
+    stretched_shear_line<1, 2>(s, inv, two_mu, G, dt, base[5], root, tau[5], l, uc);
+  });
+  // The top wall faces of the components staggered in y, owned on the top rank.
+  auto wall_face = [&](auto a_tag, auto b_tag, int c) {
+    constexpr int A = decltype(a_tag)::value, B = decltype(b_tag)::value;
+    const Box ext = owned_extent(tau[c], owned);
+    if (ext.hi[Y] == owned.hi[Y]) return;
+    const Box top{{0, owned.hi[Y], 0}, ext.hi};
+    for_lines<1>(top, [&](const auto& l, double* uc) {
+      stretched_shear_line<A, B>(s, inv, two_mu, G, dt, base[c], root, tau[c], l, uc);
+    });
+  };
+  using I0 = std::integral_constant<int, 0>;
+  using I1 = std::integral_constant<int, 1>;
+  using I2 = std::integral_constant<int, 2>;
+  wall_face(I0{}, I1{}, 3);
+  wall_face(I0{}, I2{}, 4);
+  wall_face(I1{}, I2{}, 5);
 }
 
 }  // namespace efsi
