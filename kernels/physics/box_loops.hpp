@@ -27,6 +27,7 @@ inline bool lines_along_y(const Box& b) {
 // inlines those; a run-time choice between two loops leaves the stencils out of line).
 template <bool AlongY>
 struct Line {
+  static constexpr bool along_y = AlongY;
   int i, j, k, n;
 };
 

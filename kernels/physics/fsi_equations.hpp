@@ -47,8 +47,10 @@ void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Fi
 
 // dphi/dt = -v.grad phi; dBt/dt = -v.grad Bt + L.Bt + Bt.L^T, with the WENO5 upwind
 // derivative, on `cells` (extended to the owned top wall face for the components staggered
-// in y: owned_extent).
-void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells);
+// in y: owned_extent).  With solid_cutoff > 0 (the solid cut-off, solid_cutoff.hpp), a line
+// of a Bt component that the cut-off resets whole after the update may be left unwritten.
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
+                        double solid_cutoff = 0.0);
 
 // `cells` extended to q's owned top wall face when q is staggered in y (field.hpp).
 Box owned_extent(const Field& q, const Box& cells);

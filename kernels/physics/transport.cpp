@@ -141,9 +141,29 @@ void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
   for_lines<1>(cells, [&](const auto& l, double* adv) { phi_line(s, inv, dphidt, l, adv); });
 }
 
+// The part of line l from its first to its last point whose Bt component at location T the
+// solid cut-off keeps (the negation of reset_solid_debris's test, on the same average of
+// phi); n = 0 when it keeps none.
+template <Stagger T, class Ln>
+Ln kept_part(const Field& phi, double cutoff, const Ln& l) {
+  if (!(cutoff > 0.0)) return l;
+  auto kept = [&](int t) {
+    const int i = Ln::along_y ? l.i : l.i + t, j = Ln::along_y ? l.j + t : l.j;
+    return !(average<Stagger::cell, T>(phi, i, j, l.k) < cutoff);
+  };
+  int first = 0, last = l.n;
+  while (first < l.n && !kept(first)) ++first;
+  while (last > first && !kept(last - 1)) --last;
+  Ln part = l;
+  (Ln::along_y ? part.j : part.i) += first;
+  part.n = last - first;
+  return part;
+}
+
 }  // namespace
 
-void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells) {
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
+                        double solid_cutoff) {
   if (cells.empty()) return;
   if (lines_along_y(cells)) {  // a thin shell box: lines along y cross the wall rows
     phi_transport(s, dphidt, cells);
@@ -159,16 +179,26 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
   // while they are in cache (field by field, each whole pass brought them again from memory).
   const Inv inv(s.domain());
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+  // Points of a Bt component that the solid cut-off resets after the update
+  // (reset_solid_debris) need no tendency: it is never used there.  Each component runs on
+  // the part of the line between its first and last kept point (none: skipped), so the
+  // state is bitwise the same and the debris far from the particles costs nothing.
+  const Field& phi = s.phi();
   for_lines<2>(cells, [&](const auto& l, double* adv) {
     // Lines run along x here: a line is one row j.
     const bool wall = l.j == wall_lo || l.j == wall_hi;
     phi_line(s, inv, dphidt, l, adv);
-    component_line<0, 0>(s, inv, dBdt[0], l, false, adv);
-    component_line<1, 1>(s, inv, dBdt[1], l, false, adv);
-    component_line<2, 2>(s, inv, dBdt[2], l, false, adv);
-    component_line<0, 1>(s, inv, dBdt[3], l, wall, adv);
-    component_line<0, 2>(s, inv, dBdt[4], l, false, adv);
-    component_line<1, 2>(s, inv, dBdt[5], l, wall, adv);
+    if (const auto c = kept_part<Stagger::cell>(phi, solid_cutoff, l); c.n > 0) {
+      component_line<0, 0>(s, inv, dBdt[0], c, false, adv);
+      component_line<1, 1>(s, inv, dBdt[1], c, false, adv);
+      component_line<2, 2>(s, inv, dBdt[2], c, false, adv);
+    }
+    if (const auto e = kept_part<Stagger::edge_xy>(phi, solid_cutoff, l); e.n > 0)
+      component_line<0, 1>(s, inv, dBdt[3], e, wall, adv);
+    if (const auto e = kept_part<Stagger::edge_xz>(phi, solid_cutoff, l); e.n > 0)
+      component_line<0, 2>(s, inv, dBdt[4], e, false, adv);
+    if (const auto e = kept_part<Stagger::edge_yz>(phi, solid_cutoff, l); e.n > 0)
+      component_line<1, 2>(s, inv, dBdt[5], e, wall, adv);
   });
   // The owned top wall faces of the components staggered in y, beyond `cells`.
   auto top_face = [&](auto a_tag, auto b_tag, int c) {

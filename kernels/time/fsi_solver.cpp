@@ -137,14 +137,16 @@ void FsiSolver::tendencies(const KernelBoxes& b) {
   const FieldSet s = state_.fields();
   compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
   momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum);
-  transport_tendency(s, work_.phi_new, work_.B_new, b.transport);
+  transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff);
 }
 
 void FsiSolver::shell_transport(const KernelBoxes& full, const KernelBoxes& in) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
   for_each_shell_box(full.transport, in.transport,
-                     [&](const Box& b) { transport_tendency(s, work_.phi_new, work_.B_new, b); });
+                     [&](const Box& b) {
+                       transport_tendency(s, work_.phi_new, work_.B_new, b, config_.physics.solid_cutoff);
+                     });
 }
 
 void FsiSolver::shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in) {
