@@ -181,6 +181,13 @@ Box owned_extent(const Field& q, const Box& cells) {
   return box;
 }
 
+Box owned_top_face(const Field& q, const Box& cells) {
+  Box top = owned_extent(q, cells);
+  if (top.hi[Y] == cells.hi[Y]) return Box{};
+  top.lo[Y] = cells.hi[Y];
+  return top;
+}
+
 }  // namespace efsi
 
 namespace efsi {

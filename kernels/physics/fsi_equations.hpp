@@ -54,6 +54,8 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
 
 // `cells` extended to q's owned top wall face when q is staggered in y (field.hpp).
 Box owned_extent(const Field& q, const Box& cells);
+// What owned_extent adds to `cells`: the slab of q's owned top wall face (empty if none).
+Box owned_top_face(const Field& q, const Box& cells);
 
 // The pieces of the Crank-Nicolson stress iteration (docs/numerics.md, "SMAC"), same stencils as above.
 // tau from s's velocity and Bt* = base + dt (L.Bt + Bt.L^T) (L and Bt from s), on the owned

@@ -28,7 +28,7 @@ inline double pick(std::uint64_t mask, double x, double y) {
 void reset_normal(const Field& phi, const Field& phi_new, std::array<Field, 6>& b, double cutoff, const Box& cells) {
   Field &b0 = b[0], &b1 = b[1], &b2 = b[2];
   for_box(cells, [&](int i, int j, int k) {
-    const std::uint64_t debris = phi(i, j, k) < cutoff ? ~std::uint64_t{0} : 0;
+    const std::uint64_t debris = solid_debris<Stagger::cell>(phi, cutoff, i, j, k) ? ~std::uint64_t{0} : 0;
     const double unstrained = sqrt_phi(phi_new(i, j, k));
     b0(i, j, k) = pick(debris, unstrained, b0(i, j, k));
     b1(i, j, k) = pick(debris, unstrained, b1(i, j, k));
@@ -41,7 +41,7 @@ void reset_shear(const Field& phi, Field& b, double cutoff, const Box& cells) {
   constexpr Stagger T = tensor_location(A, B);
   for_box(owned_extent(b, cells), [&](int i, int j, int k) {
     const double old = b(i, j, k);
-    b(i, j, k) = average<Stagger::cell, T>(phi, i, j, k) < cutoff ? 0.0 : old;
+    b(i, j, k) = solid_debris<T>(phi, cutoff, i, j, k) ? 0.0 : old;
   });
 }
 

@@ -4,8 +4,17 @@
 #include <array>
 
 #include "fsi_state.hpp"
+#include "stencils.hpp"
 
 namespace efsi {
+
+// The cut-off's test for a Bt component at location T: `phi` (the state an update started
+// from) averaged to (i, j, k) of T is below `cutoff`.  One definition: reset_solid_debris
+// resets where it holds, and the transport skips only what it resets.
+template <Stagger T>
+inline bool solid_debris(const Field& phi, double cutoff, int i, int j, int k) {
+  return average<Stagger::cell, T>(phi, i, j, k) < cutoff;
+}
 
 // After an update phi -> phi_new, Bt -> B_new: where `phi` (the state the update started
 // from, ghosts current) averaged to a component's location is below `cutoff`, that component

@@ -9,6 +9,7 @@
 #include "box_loops.hpp"
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
+#include "solid_cutoff.hpp"
 #include "weno5.hpp"
 
 namespace efsi {
@@ -142,14 +143,13 @@ void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
 }
 
 // The part of line l from its first to its last point whose Bt component at location T the
-// solid cut-off keeps (the negation of reset_solid_debris's test, on the same average of
-// phi); n = 0 when it keeps none.
+// solid cut-off keeps (solid_debris false); n = 0 when it keeps none.
 template <Stagger T, class Ln>
 Ln kept_part(const Field& phi, double cutoff, const Ln& l) {
   if (!(cutoff > 0.0)) return l;
   auto kept = [&](int t) {
     const int i = Ln::along_y ? l.i : l.i + t, j = Ln::along_y ? l.j + t : l.j;
-    return !(average<Stagger::cell, T>(phi, i, j, l.k) < cutoff);
+    return !solid_debris<T>(phi, cutoff, i, j, l.k);
   };
   int first = 0, last = l.n;
   while (first < l.n && !kept(first)) ++first;
@@ -201,19 +201,8 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
       component_line<1, 2>(s, inv, dBdt[5], e, wall, adv);
   });
   // The owned top wall faces of the components staggered in y, beyond `cells`.
-  auto top_face = [&](auto a_tag, auto b_tag, int c) {
-    constexpr int A = decltype(a_tag)::value, B = decltype(b_tag)::value;
-    const Box ext = owned_extent(dBdt[c], cells);
-    if (ext.hi[Y] == cells.hi[Y]) return;
-    Box top = ext;
-    top.lo[Y] = cells.hi[Y];
-    transport_component<A, B>(s, dBdt[c], top);
-  };
-  using I0 = std::integral_constant<int, 0>;
-  using I1 = std::integral_constant<int, 1>;
-  using I2 = std::integral_constant<int, 2>;
-  top_face(I0{}, I1{}, 3);
-  top_face(I1{}, I2{}, 5);
+  transport_component<0, 1>(s, dBdt[3], owned_top_face(dBdt[3], cells));
+  transport_component<1, 2>(s, dBdt[5], owned_top_face(dBdt[5], cells));
 }
 
 void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
@@ -241,21 +230,12 @@ void stretched_stress_owned(const FieldSet& s, const Physics& ph, double dt, con
     stretched_shear_line<1, 2>(s, inv, two_mu, G, dt, base[5], root, tau[5], l, uc);
   });
   // The top wall faces of the components staggered in y, owned on the top rank.
-  auto wall_face = [&](auto a_tag, auto b_tag, int c) {
-    constexpr int A = decltype(a_tag)::value, B = decltype(b_tag)::value;
-    const Box ext = owned_extent(tau[c], owned);
-    if (ext.hi[Y] == owned.hi[Y]) return;
-    const Box top{{0, owned.hi[Y], 0}, ext.hi};
-    for_lines<1>(top, [&](const auto& l, double* uc) {
-      stretched_shear_line<A, B>(s, inv, two_mu, G, dt, base[c], root, tau[c], l, uc);
-    });
-  };
-  using I0 = std::integral_constant<int, 0>;
-  using I1 = std::integral_constant<int, 1>;
-  using I2 = std::integral_constant<int, 2>;
-  wall_face(I0{}, I1{}, 3);
-  wall_face(I0{}, I2{}, 4);
-  wall_face(I1{}, I2{}, 5);
+  for_lines<1>(owned_top_face(tau[3], owned), [&](const auto& l, double* uc) {
+    stretched_shear_line<0, 1>(s, inv, two_mu, G, dt, base[3], root, tau[3], l, uc);
+  });
+  for_lines<1>(owned_top_face(tau[5], owned), [&](const auto& l, double* uc) {
+    stretched_shear_line<1, 2>(s, inv, two_mu, G, dt, base[5], root, tau[5], l, uc);
+  });
 }
 
 }  // namespace efsi
