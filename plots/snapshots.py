@@ -50,14 +50,20 @@ def box(path):
     return Snapshot(path).length
 
 
+# The folder of an accuracy directory that holds its phi-only snapshots (write_phi_only).
+PHI_DIR = "phi"
+
+
 def series(directory, method):
-    """The snapshots of `method` in an accuracy --out directory, and its final fields file,
-    sorted by step (one per step)."""
+    """The snapshots of `method` in an accuracy --out directory (full ones first, then the
+    phi-only ones of its phi/ folder), and its final fields file, sorted by step (one per
+    step)."""
     found = {}
-    for path in glob.glob(os.path.join(directory, f"snapshot-{method}-*.h5")):
-        if re.search(r"-\d{8}\.h5$", path):
-            s = Snapshot(path)
-            found[s.step] = s
+    for folder in (directory, os.path.join(directory, PHI_DIR)):
+        for path in sorted(glob.glob(os.path.join(folder, f"snapshot-{method}-*.h5"))):
+            if re.search(r"-\d{8}\.h5$", path):
+                s = Snapshot(path)
+                found.setdefault(s.step, s)
     final = os.path.join(directory, f"fields-{method}.h5")
     if os.path.isfile(final):
         s = Snapshot(final)
@@ -99,3 +105,33 @@ def state_differences(a, b):
         "solid_volume": float(solid),
         "mismatch_volume": float((solid_a != solid_b).sum() * cell),
     }
+
+
+def write_phi_only(source, target):
+    """Writes `target`: `source`'s phi, bit for bit (gzip with byte shuffle), and all its
+    attributes, under a temporary name renamed when complete.  What the plots and the
+    comparison read of a state is phi alone; the full state of the 128^3 case is 185 MB a
+    file, its phi alone a few hundred kB, small enough to keep in the repository.  Raises
+    OSError naming the file when it cannot be read or written."""
+    import h5py
+    if os.path.abspath(source) == os.path.abspath(target):
+        raise OSError(f"{target}: would overwrite its own source")
+    with h5py.File(source, "r") as f:
+        if "phi" not in f:
+            raise OSError(f"{source}: no phi dataset")
+        phi = f["phi"][...]
+        attrs = dict(f.attrs)
+    tmp = target + ".tmp"
+    try:
+        with h5py.File(tmp, "w") as g:
+            nz, ny, nx = phi.shape
+            g.create_dataset("phi", data=phi, compression="gzip", compression_opts=6, shuffle=True,
+                             chunks=(min(nz, 16), ny, nx))
+            for k, v in attrs.items():
+                if not k.startswith("stagger_") or k == "stagger_phi":
+                    g.attrs[k] = v
+        os.replace(tmp, target)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise

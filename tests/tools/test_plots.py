@@ -25,6 +25,7 @@ import unittest
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.dirname(os.path.dirname(HERE))
 PLOTS = os.path.join(REPO, "plots", "make_plots.py")
+REDUCE = os.path.join(REPO, "plots", "reduce_snapshots.py")
 DATA = os.path.join(HERE, "data")
 WEAK = os.path.join(DATA, "weak-mini.csv")
 STRONG = os.path.join(DATA, "strong-mini.csv")
@@ -262,6 +263,82 @@ class ParticleSurfaces(unittest.TestCase):
         self.assertGreater(max_diff, 0.3)
         self.assertAlmostEqual(share, 0.3, delta=0.05)
         self.assertIn("## Centroids at the last common output", text)
+
+
+class PhiOnlySnapshots(unittest.TestCase):
+    """reduce_snapshots.py keeps phi bit for bit with the attributes, and make_plots.py draws
+    the same figure and comparison from an accuracy directory's phi/ folder as from the full
+    state files."""
+
+    def setUp(self):
+        import h5py
+        self.tmp = tempfile.mkdtemp(prefix="efsi-plots-phi-")
+        self.addCleanup(shutil.rmtree, self.tmp, True)
+        self.full = os.path.join(self.tmp, "full")
+        shutil.copytree(ACCURACY, self.full)
+        h = 7.2 / 24
+        self.files = []
+        for method, shift in (("acm", h), ("fft", 0.0)):
+            for step, time, x in ((0, 0.0, 3.6), (10000, 5.0, 3.6), (40000, 20.0, 3.6 + shift)):
+                path = os.path.join(self.full, f"snapshot-{method}-{step:08d}.h5")
+                write_state(path, step, time, (x, 3.6, 3.6))
+                with h5py.File(path, "a") as f:
+                    f.attrs["stagger_phi"], f.attrs["stagger_u"] = "cell", "face_x"
+                self.files.append(path)
+
+    def reduce(self, *args):
+        return subprocess.run([sys.executable, REDUCE, *args], capture_output=True, text=True, timeout=120)
+
+    def test_phi_kept_bitwise_and_drawn_alike(self):
+        import h5py
+        acc = os.path.join(self.tmp, "reduced")
+        shutil.copytree(ACCURACY, acc)
+        os.mkdir(os.path.join(acc, "phi"))
+        r = self.reduce("--out", os.path.join(acc, "phi"), *self.files)
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        for path in self.files:
+            with h5py.File(path) as a, h5py.File(os.path.join(acc, "phi", os.path.basename(path))) as b:
+                self.assertEqual(sorted(b.keys()), ["phi"])
+                self.assertEqual(a["phi"][...].tobytes(), b["phi"][...].tobytes())
+                self.assertEqual(b["phi"].compression, "gzip")
+                kept = {k: a.attrs[k] for k in a.attrs if k != "stagger_u"}
+                self.assertEqual(kept, {k: b.attrs[k] for k in b.attrs})
+                self.assertIn("stagger_phi", kept)
+        self.assertFalse([f for f in os.listdir(os.path.join(acc, "phi")) if not f.endswith(".h5")])
+        tables = {}
+        for name, directory in (("full", self.full), ("reduced", acc)):
+            out = os.path.join(self.tmp, "out-" + name)
+            r = make_plots("--accuracy-dir", directory, "--out", out, "--formats", "png", "--box", "7.2")
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            self.assertTrue(os.path.isfile(os.path.join(out, "fig1_particle_surfaces.png")), r.stdout)
+            with open(os.path.join(out, "accuracy_comparison.md")) as f:
+                tables[name] = section(f.read(), "phi and the solid")
+        self.assertIn("| 20 |", tables["full"])
+        self.assertEqual(tables["full"], tables["reduced"])
+
+    def test_errors_one_line(self):
+        import h5py
+        no_phi = os.path.join(self.tmp, "no-phi.h5")
+        with h5py.File(no_phi, "w") as f:
+            f["u"] = [1.0]
+        out = os.path.join(self.tmp, "out")
+        os.mkdir(out)
+        cases = [
+            (["--out", os.path.join(self.tmp, "missing"), self.files[0]], 2, "not an existing directory"),
+            (["--out", out, os.path.join(self.tmp, "missing.h5")], 2, "missing.h5"),
+            (["--out", out, no_phi], 1, "no phi dataset"),
+            (["--out", self.full, self.files[0]], 1, "would overwrite its own source"),
+            (["--out", "/proc", self.files[0]], 1, "/proc/snapshot-acm-00000000.h5"),
+        ]
+        for args, status, needle in cases:
+            with self.subTest(args=args):
+                r = self.reduce(*args)
+                self.assertEqual(r.returncode, status, r.stdout + r.stderr)
+                lines = r.stderr.splitlines()
+                self.assertEqual(len(lines), 1, r.stderr)
+                self.assertTrue(lines[0].startswith("reduce_snapshots.py: error: "), lines[0])
+                self.assertIn(needle, lines[0])
+        self.assertEqual(os.listdir(out), [])
 
 
 class Errors(unittest.TestCase):

@@ -1,0 +1,57 @@
+#!/usr/bin/python3
+"""Keeps what the plots read of the drivers' HDF5 state files: phi, bit for bit, compressed,
+with the file's attributes (snapshots.write_phi_only), one file per input under the same
+name in --out.  make_plots.py --accuracy-dir DIR finds such files in DIR/phi/, so a run of
+one method in one session and of the other in another can still be drawn and compared
+side by side.
+
+  reduce_snapshots.py --out results/accuracy-128/phi RUN/snapshot-acm-*.h5
+
+Bad input or a failed write: one line on standard error, exit status 2 (usage) or 1 (a file),
+and no file left under its final name for the input that failed.
+"""
+
+import argparse
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import snapshots as sn  # noqa: E402
+
+
+class UsageError(Exception):
+    pass
+
+
+class OneLineParser(argparse.ArgumentParser):
+    def error(self, message):
+        raise UsageError(message)
+
+
+def main(argv=None):
+    p = OneLineParser(prog="reduce_snapshots.py", description=__doc__.split("\n\n")[0])
+    p.add_argument("snapshots", nargs="+", help="state files (snapshots, fields-METHOD.h5, checkpoints)")
+    p.add_argument("--out", required=True, help="existing directory for the phi-only files")
+    try:
+        args = p.parse_args(argv)
+        if not os.path.isdir(args.out):
+            raise UsageError(f"--out {args.out} is not an existing directory")
+        for path in args.snapshots:
+            if not os.path.isfile(path):
+                raise UsageError(f"no file {path}")
+    except UsageError as e:
+        print(f"reduce_snapshots.py: error: {e}", file=sys.stderr)
+        return 2
+    for path in args.snapshots:
+        target = os.path.join(args.out, os.path.basename(path))
+        try:
+            sn.write_phi_only(path, target)
+        except OSError as e:
+            print(f"reduce_snapshots.py: error: {path} -> {target}: {e}", file=sys.stderr)
+            return 1
+        print(f"wrote {target} ({os.path.getsize(target)} bytes)")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
