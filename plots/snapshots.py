@@ -107,13 +107,17 @@ def state_differences(a, b):
     }
 
 
-def write_phi_only(source, target):
-    """Writes `target`: `source`'s phi, bit for bit (gzip with byte shuffle), and all its
-    attributes, under a temporary name renamed when complete.  What the plots and the
-    comparison read of a state is phi alone; the full state of the 128^3 case is 185 MB a
-    file, its phi alone a few hundred kB, small enough to keep in the repository.  Raises
-    OSError naming the file when it cannot be read or written."""
+def write_phi_only(source, target, single=False, zero_below=0.0):
+    """Writes `target`: `source`'s phi (gzip with byte shuffle) and all its attributes but
+    the other fields' staggerings, under a temporary name renamed when complete.  What the
+    plots and the comparison read of a state is phi alone: the 128^3 case's full state is
+    185 MB a file, its phi alone 15 MB once the interface has spread tails of 1e-12 over the
+    box.  By default phi is kept bit for bit; `single` rounds it to float32 and `zero_below`
+    sets |phi| < zero_below to 0 (3 MB for 1e-6 in that case), both recorded in the
+    attribute `phi_reduced`.  Raises OSError naming the file when it cannot be read or
+    written."""
     import h5py
+    import numpy as np
     if os.path.abspath(source) == os.path.abspath(target):
         raise OSError(f"{target}: would overwrite its own source")
     with h5py.File(source, "r") as f:
@@ -121,6 +125,13 @@ def write_phi_only(source, target):
             raise OSError(f"{source}: no phi dataset")
         phi = f["phi"][...]
         attrs = dict(f.attrs)
+    reduced = []
+    if single:
+        phi = phi.astype(np.float32)
+        reduced.append("rounded to float32")
+    if zero_below > 0.0:
+        phi[np.abs(phi) < zero_below] = 0.0
+        reduced.append(f"|phi| < {zero_below:g} set to 0")
     tmp = target + ".tmp"
     try:
         with h5py.File(tmp, "w") as g:
@@ -130,6 +141,8 @@ def write_phi_only(source, target):
             for k, v in attrs.items():
                 if not k.startswith("stagger_") or k == "stagger_phi":
                     g.attrs[k] = v
+            if reduced:
+                g.attrs["phi_reduced"] = ", ".join(reduced)
         os.replace(tmp, target)
     except BaseException:
         if os.path.exists(tmp):

@@ -316,6 +316,22 @@ class PhiOnlySnapshots(unittest.TestCase):
         self.assertIn("| 20 |", tables["full"])
         self.assertEqual(tables["full"], tables["reduced"])
 
+    def test_single_and_zeroed(self):
+        import h5py
+        import numpy as np
+        out = os.path.join(self.tmp, "small")
+        os.mkdir(out)
+        r = self.reduce("--out", out, "--single", "--zero-below", "1e-3", self.files[2])
+        self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        with h5py.File(self.files[2]) as a, h5py.File(os.path.join(out, os.path.basename(self.files[2]))) as b:
+            want = a["phi"][...].astype(np.float32)
+            self.assertGreater(((want > 0) & (want < 1e-3)).sum(), 0, "the ball has tails to cut")
+            want[np.abs(want) < 1e-3] = 0
+            self.assertEqual(b["phi"].dtype, np.float32)
+            self.assertEqual(want.tobytes(), b["phi"][...].tobytes())
+            self.assertEqual(b.attrs["phi_reduced"], "rounded to float32, |phi| < 0.001 set to 0")
+            self.assertEqual(int(b.attrs["step"]), 40000)
+
     def test_errors_one_line(self):
         import h5py
         no_phi = os.path.join(self.tmp, "no-phi.h5")
@@ -326,6 +342,8 @@ class PhiOnlySnapshots(unittest.TestCase):
         cases = [
             (["--out", os.path.join(self.tmp, "missing"), self.files[0]], 2, "not an existing directory"),
             (["--out", out, os.path.join(self.tmp, "missing.h5")], 2, "missing.h5"),
+            (["--out", out, "--zero-below", "0.7", self.files[0]], 2, "--zero-below 0.7 is outside [0, 0.5)"),
+            (["--out", out, "--zero-below", "nan", self.files[0]], 2, "--zero-below nan"),
             (["--out", out, no_phi], 1, "no phi dataset"),
             (["--out", self.full, self.files[0]], 1, "would overwrite its own source"),
             (["--out", "/proc", self.files[0]], 1, "/proc/snapshot-acm-00000000.h5"),
