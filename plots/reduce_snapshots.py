@@ -12,21 +12,12 @@ Bad input or a failed write: one line on standard error, exit status 2 (usage) o
 and no file left under its final name for the input that failed.
 """
 
-import argparse
 import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import snapshots as sn  # noqa: E402
-
-
-class UsageError(Exception):
-    pass
-
-
-class OneLineParser(argparse.ArgumentParser):
-    def error(self, message):
-        raise UsageError(message)
+from make_plots import OneLineParser, UsageError  # noqa: E402
 
 
 def main(argv=None):
