@@ -6,7 +6,7 @@ file's attributes (snapshots.write_phi_only), one file per input under the same 
 of the other in another can still be drawn and compared side by side.
 
   reduce_snapshots.py --out results/accuracy-128/phi --single --zero-below 1e-6 \
-      RUN/snapshot-acm-000[01]0000.h5
+      RUN/snapshot-acm-000[0-4]0000.h5
 
 Bad input or a failed write: one line on standard error, exit status 2 (usage) or 1 (a file),
 and no file left under its final name for the input that failed.

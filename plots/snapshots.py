@@ -112,9 +112,9 @@ def write_phi_only(source, target, single=False, zero_below=0.0):
     the other fields' staggerings, under a temporary name renamed when complete.  What the
     plots and the comparison read of a state is phi alone: the 128^3 case's full state is
     185 MB a file, its phi alone 15 MB once the interface has spread tails over the box
-    (below 1e-6 in 64 % of the cells at t = 5).  By default phi is kept bit for bit; `single` rounds it to float32 and `zero_below`
-    sets |phi| < zero_below to 0 (3 MB for 1e-6 in that case), both recorded in the
-    attribute `phi_reduced`.  Raises OSError naming the file when it cannot be read or
+    (below 1e-6 in 64 % of the cells at t = 5).  By default phi is kept bit for bit;
+    `single` rounds it to float32 and `zero_below` sets |phi| < zero_below to 0 (3 MB for
+    1e-6 in that case), both recorded in the attribute `phi_reduced`.  Raises OSError naming the file when it cannot be read or
     written."""
     import h5py
     import numpy as np
