@@ -51,8 +51,14 @@ void apply_state_options(const StateOptions& o, RunRequest& req, const std::stri
   req.snapshot_every = o.snapshot_every;
   check_writable(req.checkpoint, "--checkpoint");
   check_writable(req.snapshots, "--snapshot-prefix");
-  if (!req.restart.empty() && ::access(req.restart.c_str(), R_OK) != 0)
+  if (!req.restart.empty() && ::access(req.restart.c_str(), R_OK) != 0) {
+    // A driver that runs several methods keeps one checkpoint per method; the name it derived
+    // is told, or passing the file one sees on disk gives an error about a file one never named.
+    if (req.restart != o.restart)
+      throw ConfigError("--restart '" + o.restart + "': the checkpoint of method " + tag + " is '" + req.restart +
+                        "' (the name given with -" + tag + " added), which cannot be read");
     throw ConfigError("--restart '" + req.restart + "' cannot be read");
+  }
 }
 
 }  // namespace efsi
