@@ -14,6 +14,7 @@ packages=(
   valgrind                           # the CI gate's counted work (callgrind)
   python3 python3-matplotlib         # plots (Debian's python3 at /usr/bin/python3)
   python3-h5py python3-skimage       # reading snapshots; phi = 1/2 surfaces (marching cubes)
+  python3-scipy                      # the particles as labelled regions (their shapes)
   jube                               # cluster benchmark definitions
   slurmctld slurmd slurm-client munge  # the local one-node SLURM cluster (harness/slurm-local)
   python3-venv                       # the ReFrame venv (harness/reframe/setup-venv.sh)

@@ -107,6 +107,57 @@ def state_differences(a, b):
     }
 
 
+def particle_shapes(snapshot):
+    """The particles of a state as the connected regions of phi > 1/2, joined across the
+    periodic x and z sides (faces shared, as the drivers' centroids count them): for each, a
+    dict of its volume, centroid (x, y, z) in the box, and semi-axes (largest first): those
+    of the uniform ellipsoid with the region's second moments, sqrt(5 lambda) for each
+    eigenvalue lambda, so that an ellipsoid's own semi-axes come back, and a biconcave disc
+    shows as two long axes and one short.  Needs scipy (python3-scipy)."""
+    import numpy as np
+    from scipy import ndimage
+    solid = snapshot.field("phi") > 0.5
+    labels, count = ndimage.label(solid)
+    # Union-find over the labels that meet across a periodic side ([z, y, x]: axes 2 and 0).
+    parent = list(range(count + 1))
+
+    def root(a):
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    for axis in (2, 0):
+        lo, hi = np.take(labels, 0, axis=axis), np.take(labels, -1, axis=axis)
+        for a, b in zip(lo[(lo > 0) & (hi > 0)], hi[(lo > 0) & (hi > 0)]):
+            ra, rb = root(int(a)), root(int(b))
+            if ra != rb:
+                parent[max(ra, rb)] = min(ra, rb)
+    lengths = np.array(snapshot.length)  # x, y, z
+    h = np.array(snapshot.spacing())
+    cell = float(np.prod(h))
+    members = {}
+    for label in range(1, count + 1):
+        members.setdefault(root(label), []).append(label)
+    shapes = []
+    for group in members.values():
+        z, y, x = np.nonzero(np.isin(labels, group))
+        pts = (np.stack([x, y, z], axis=1) + 0.5) * h
+        # Unwrapped about its circular mean along each periodic axis (right for any region
+        # shorter than the box there), then put back in the box.
+        for a in (0, 2):
+            angle = np.angle(np.exp(2j * np.pi * pts[:, a] / lengths[a]).mean())
+            mid = lengths[a] * angle / (2 * np.pi)
+            pts[:, a] = mid + (pts[:, a] - mid + lengths[a] / 2) % lengths[a] - lengths[a] / 2
+        centre = pts.mean(axis=0)
+        moments = np.cov((pts - centre).T, bias=True)
+        semi = np.sqrt(5.0 * np.clip(np.linalg.eigvalsh(moments), 0.0, None))[::-1]
+        centre[[0, 2]] %= lengths[[0, 2]]
+        shapes.append({"volume": len(pts) * cell, "centroid": tuple(float(v) for v in centre),
+                       "semi_axes": tuple(float(v) for v in semi)})
+    return sorted(shapes, key=lambda s: s["centroid"])
+
+
 def write_phi_only(source, target, single=False, zero_below=0.0):
     """Writes `target`: `source`'s phi (gzip with byte shuffle) and all its attributes but
     the other fields' staggerings, under a temporary name renamed when complete.  What the

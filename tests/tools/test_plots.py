@@ -12,6 +12,7 @@ one line and exit status 2.
 """
 
 import collections
+import math
 import csv
 import os
 import re
@@ -34,6 +35,7 @@ FIGURES = ("fig2_energy_budget", "fig3_weak_efficiency", "fig4_comm_fraction", "
            "particle_trajectories")
 
 sys.path.insert(0, os.path.join(REPO, "plots"))
+import snapshots  # noqa: E402
 import trajectories  # noqa: E402
 
 
@@ -207,17 +209,22 @@ class Trajectories(unittest.TestCase):
         self.assertEqual(sorted(pairs), list(range(len(acm))))
 
 
-def write_state(path, step, time, centre, cells=24, length=7.2):
+def write_state(path, step, time, centre, cells=24, length=7.2, radii=(1.5, 1.5, 1.5)):
     """A state file as the drivers write it (global datasets [z, y, x], step, time, cells and
-    lengths as attributes) holding one smooth ball of radius 1.5 at `centre` in phi."""
+    lengths as attributes) holding one smooth ellipsoid (by default a ball of radius 1.5) at
+    `centre` in phi, periodic in x and z."""
     import h5py
     import numpy as np
     h = length / cells
     c = (np.arange(cells) + 0.5) * h
     z, y, x = np.meshgrid(c, c, c, indexing="ij")
-    r = np.sqrt((x - centre[0]) ** 2 + (y - centre[1]) ** 2 + (z - centre[2]) ** 2)
+    dx = (x - centre[0] + length / 2) % length - length / 2
+    dz = (z - centre[2] + length / 2) % length - length / 2
+    # The ellipsoid's level sets scaled to its mean radius: the interface about a cell wide.
+    rho = np.sqrt((dx / radii[0]) ** 2 + ((y - centre[1]) / radii[1]) ** 2 + (dz / radii[2]) ** 2)
+    r = rho * (radii[0] * radii[1] * radii[2]) ** (1 / 3)
     with h5py.File(path, "w") as f:
-        f["phi"] = 0.5 * (1 - np.tanh((r - 1.5) / h))
+        f["phi"] = 0.5 * (1 - np.tanh((r - (radii[0] * radii[1] * radii[2]) ** (1 / 3)) / h))
         f["u"] = np.zeros((cells, cells, cells))
         f.attrs["step"] = step
         f.attrs["time"] = time
@@ -263,6 +270,48 @@ class ParticleSurfaces(unittest.TestCase):
         self.assertGreater(max_diff, 0.3)
         self.assertAlmostEqual(share, 0.3, delta=0.05)
         self.assertIn("## Centroids at the last common output", text)
+        # The same ball one cell along: the shape table pairs the two, one cell apart, with
+        # the same volume and semi-axes (those of the ball, to within its voxels).
+        shapes = [[c.strip() for c in line.strip("|").split("|")]
+                  for line in section(text, "Particle shapes at t = 20").splitlines() if line.startswith("| 0 |")]
+        self.assertEqual(len(shapes), 1, text)
+        _, distance, volume, dvolume, semi, dsemi = shapes[0]
+        self.assertAlmostEqual(float(distance), h, delta=1e-9)
+        self.assertAlmostEqual(float(dvolume), 0.0, delta=1e-12)
+        for v in semi.split(","):
+            self.assertAlmostEqual(float(v), 1.5, delta=0.05 * 1.5)
+        for v in dsemi.split(","):
+            self.assertAlmostEqual(float(v), 0.0, delta=1e-9)
+
+
+class ParticleShapes(unittest.TestCase):
+    """snapshots.particle_shapes: an ellipsoid's semi-axes, largest first, and one particle
+    across the periodic sides, its centroid in the box."""
+
+    def shapes(self, centre, radii):
+        tmp = tempfile.mkdtemp(prefix="efsi-plots-shape-")
+        self.addCleanup(shutil.rmtree, tmp, True)
+        path = os.path.join(tmp, "s.h5")
+        write_state(path, 0, 0.0, centre, cells=72, radii=radii)
+        return snapshots.particle_shapes(snapshots.Snapshot(path))
+
+    def test_ellipsoid_semi_axes(self):
+        (one,) = self.shapes((3.6, 3.6, 3.6), (1.2, 0.6, 2.0))
+        for got, want in zip(one["semi_axes"], (2.0, 1.2, 0.6)):
+            self.assertAlmostEqual(got, want, delta=0.03 * want)
+        self.assertAlmostEqual(one["volume"], 4 / 3 * math.pi * 2.0 * 1.2 * 0.6, delta=0.03 * one["volume"])
+        for got, want in zip(one["centroid"], (3.6, 3.6, 3.6)):
+            self.assertAlmostEqual(got, want, delta=1e-9)
+
+    def test_across_the_periodic_sides(self):
+        whole = self.shapes((3.6, 3.6, 3.6), (1.5, 1.0, 1.2))
+        split = self.shapes((7.0, 3.6, 0.3), (1.5, 1.0, 1.2))
+        self.assertEqual(len(split), 1, "one particle across the x and z sides, not four")
+        self.assertAlmostEqual(split[0]["volume"], whole[0]["volume"], delta=1e-12)
+        for got, want in zip(split[0]["semi_axes"], whole[0]["semi_axes"]):
+            self.assertAlmostEqual(got, want, delta=1e-9)
+        for got, want in zip(split[0]["centroid"], (7.0, 3.6, 0.3)):
+            self.assertAlmostEqual(got, want, delta=1e-9)
 
 
 class PhiOnlySnapshots(unittest.TestCase):
