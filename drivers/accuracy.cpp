@@ -34,7 +34,7 @@ struct Options {
   double solid_cutoff = 0.05;
   std::optional<int> every, particles;
   std::string methods = "acm,fft", out = ".", csv;
-  bool force_memory = false;
+  bool force_memory = false, reproducible = false;
   StateOptions state;
 };
 
@@ -81,6 +81,7 @@ int run(const Options& o) {
   c.domain.length = {o.length, o.length, o.length};
   c.solver.dt = o.dt;
   apply_physics_options(o.G, o.force, o.solid_cutoff, c);
+  c.timed_planning = !o.reproducible;
   c.particles = o.particles ? *o.particles : static_cast<int>(lattice_site_count(c.domain, c.particle));
   c.solver.velocity_limit = default_velocity_limit(c);
   const std::string dir = o.out.empty() ? "." : o.out;
@@ -196,6 +197,7 @@ int main(int argc, char** argv) {
   app.add_option("--out", o.out, "existing directory for the outputs")->capture_default_str();
   app.add_option("--csv", o.csv, "append one result row per method to this CSV file");
   app.add_option("--threads", o.threads, "OpenMP threads per rank (default: OMP_NUM_THREADS)");
+  add_reproducible_flag(app, o.reproducible);
   add_force_memory_flag(app, o.force_memory);
   o.state.snapshot_prefix = "";  // OUT/snapshot unless given
   add_state_options(app, o.state);

@@ -31,6 +31,12 @@ std::string scaling_steps_help() {
   return per_method([](const MethodSpec& m) { return std::to_string(m.scaling_defaults().steps); });
 }
 
+void add_reproducible_flag(CLI::App& app, bool& reproducible) {
+  app.add_flag("--reproducible", reproducible,
+               "choose no algorithm by timing it (fft: FFTW_ESTIMATE plans instead of FFTW_MEASURE), so that "
+               "two runs of one case on one rank grid, or a run and its restart, give the same bits");
+}
+
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help) {
   std::string methods;
   for (const MethodSpec* m : pressure_methods()) methods += "\n  " + m->name() + ": " + m->summary();
@@ -49,9 +55,7 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
   std::string names;
   for (const Integrator& i : integrators()) names += (names.empty() ? "" : " | ") + i.name;
   app.add_option("--integrator", o.integrator, "time integrator: " + names)->capture_default_str();
-  app.add_flag("--reproducible", o.reproducible,
-               "choose no algorithm by timing it (fft: FFTW_ESTIMATE plans instead of FFTW_MEASURE), so that "
-               "two runs of one case on one rank grid, or a run and its restart, give the same bits");
+  add_reproducible_flag(app, o.reproducible);
   app.add_flag_callback(
       "--list-methods",
       [] {

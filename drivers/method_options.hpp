@@ -30,6 +30,9 @@ struct MethodOptions {
 // `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);
 
+// --reproducible alone, for a driver that chooses its methods otherwise (accuracy).
+void add_reproducible_flag(CLI::App& app, bool& reproducible);
+
 // "acm: 50, fft: 10, sor: 10": one value per registered method, for help texts.
 std::string per_method(const std::function<std::string(const MethodSpec&)>& value);
 // The scaling drivers' defaults of --dt and --steps, per method.

@@ -28,7 +28,8 @@ void add_state_options(CLI::App& app, StateOptions& o) {
       ->capture_default_str();
   app.add_option("--restart", o.restart,
                  "continue the run from this checkpoint, on any rank count; its configuration must be this "
-                 "run's; --steps and --t-end count from the start of the whole run");
+                 "run's; --steps and --t-end count from the start of the whole run; with --reproducible on both parts and "
+                 "the same rank grid it ends on the bits of the uninterrupted run");
   app.add_option("--snapshot-every", o.snapshot_every,
                  "steps between snapshots of every state field: PREFIX-STEP.h5 (parallel HDF5) and .xmf "
                  "(ParaView); 0: none")
