@@ -7,7 +7,10 @@ Columns: median time per call (median over repetitions of each repetition's medi
 iteration), counted bytes and flops per cell, achieved GB/s and GFLOP/s per rank from the
 median time, and the fraction of the in-run STREAM-triad bandwidth the kernel reaches: its
 GB/s over the triad's best per-rank bandwidth in the run (all ranks streaming together; the
-same figure for every row, in the heading).  The gate's counted figures are in gate.py's table.
+same figure for every row, in the heading), and its fraction of the roofline: its GFLOP/s over
+the lower of the compute probe's best GFLOP/s and the triad's best bandwidth times the
+kernel's counted flops per byte (a kernel that counts no flops, such as the halo exchange,
+has only the triad's).  The gate's counted figures are in gate.py's table.
 """
 import argparse
 import os
@@ -15,6 +18,15 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench_json  # noqa: E402
+
+
+def roof_fraction(r, triad, compute):
+    """The kernel's GFLOP/s over what its counted flops and bytes allow at the run's best
+    probes, as text; '' where the run has no compute probe."""
+    if r["flops_per_cell"] <= 0 or r["bytes_per_cell"] <= 0 or compute <= 0:
+        return "" if compute <= 0 else f"{r['GBps'] / triad:.3f}"
+    attainable = min(compute, triad * r["flops_per_cell"] / r["bytes_per_cell"])
+    return f"{r['GFLOPs'] / attainable:.3f}"
 
 
 def main():
@@ -27,14 +39,15 @@ def main():
     probe = bench_json.probe_us(doc, "triad_us")
     ctx = doc.get("context", {})
     triad = max(r["triad_GBps"] for r in s.values())  # from the run's fastest pass
+    compute = max(r["compute_GFLOPs"] for r in s.values())
     print(f"Machine `{a.machine}`, {ctx.get('mpi_ranks', '?')} MPI ranks x {ctx.get('omp_threads', '?')} "
           f"OpenMP threads, {ctx.get('date', '')}; STREAM triad {triad:.1f} GB/s per rank "
-          f"(fastest pass {probe:.0f} us).\n")
-    print("| kernel | median time (us) | B/cell | flop/cell | GB/s | GFLOP/s | fraction of triad |")
-    print("|---|---:|---:|---:|---:|---:|---:|")
+          f"(fastest pass {probe:.0f} us), compute probe {compute:.1f} GFLOP/s per rank.\n")
+    print("| kernel | median time (us) | B/cell | flop/cell | GB/s | GFLOP/s | fraction of triad | fraction of roof |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|")
     for name, r in s.items():
         print(f"| {name} | {r['median_us']:.4g} | {r['bytes_per_cell']:.4g} | {r['flops_per_cell']:.4g} | "
-              f"{r['GBps']:.3g} | {r['GFLOPs']:.3g} | {r['GBps'] / triad:.3f} |")
+              f"{r['GBps']:.3g} | {r['GFLOPs']:.3g} | {r['GBps'] / triad:.3f} | {roof_fraction(r, triad, compute)} |")
     return 0
 
 
