@@ -23,8 +23,10 @@ import bench_json  # noqa: E402
 def roof_fraction(r, triad, compute):
     """The kernel's GFLOP/s over what its counted flops and bytes allow at the run's best
     probes, as text; '' where the run has no compute probe."""
-    if r["flops_per_cell"] <= 0 or r["bytes_per_cell"] <= 0 or compute <= 0:
-        return "" if compute <= 0 else f"{r['GBps'] / triad:.3f}"
+    if compute <= 0:
+        return ""
+    if r["flops_per_cell"] <= 0 or r["bytes_per_cell"] <= 0:  # the triad is its only roof
+        return f"{r['GBps'] / triad:.3f}"
     attainable = min(compute, triad * r["flops_per_cell"] / r["bytes_per_cell"])
     return f"{r['GFLOPs'] / attainable:.3f}"
 
