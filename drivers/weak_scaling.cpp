@@ -5,6 +5,7 @@
 
 #include "case_run.hpp"
 #include "config_error.hpp"
+#include "decomposition.hpp"
 #include "driver_support.hpp"
 #include "method_options.hpp"
 
@@ -38,7 +39,7 @@ int run(const Options& o) {
       throw ConfigError("--decomp " + o.decomp + " has " + std::to_string(product(dims)) + " ranks, started on " +
                         std::to_string(ranks));
   } else {
-    MPI_Dims_create(ranks, 3, dims.data());
+    dims = choose_block_dims(ranks, {o.local, o.local, o.local});
   }
   c.forced_dims = dims;
   for (int a = 0; a < 3; ++a) {
@@ -68,7 +69,7 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   add_method_options(app, o.m, scaling_dt_help());
   app.add_option("--steps", o.steps, "measured steps (default: " + scaling_steps_help() + ")");
-  app.add_option("--decomp", o.decomp, "rank grid PX,PY,PZ (default: MPI_Dims_create)");
+  app.add_option("--decomp", o.decomp, "rank grid PX,PY,PZ (default: MPI_Dims_create's factors, placed for the least halo traffic: the largest on y, then z)");
   app.add_option("--csv", o.csv, "append the run's result row to this CSV file");
   add_force_memory_flag(app, o.force_memory);
   add_state_options(app, o.state);

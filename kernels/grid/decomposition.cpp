@@ -1,5 +1,8 @@
 #include "decomposition.hpp"
 
+#include <algorithm>
+#include <array>
+#include <functional>
 #include <limits>
 #include <string>
 
@@ -27,18 +30,57 @@ std::string misfit(const Int3& dims, const Int3& global, int min_block) {
   return {};
 }
 
-// Cells on the faces a rank exchanges, per rank; smaller is less communication.
-double halo_surface(const Int3& dims, const Int3& global) {
-  const double n[3] = {double(global[0]) / dims[0], double(global[1]) / dims[1],
-                       double(global[2]) / dims[2]};
-  double s = 0;
-  if (dims[0] > 1) s += n[1] * n[2];
-  if (dims[1] > 1) s += n[0] * n[2];
-  if (dims[2] > 1) s += n[0] * n[1];
-  return s;
+// Axis a gets factor p[a] of the factors sorted largest first.  Tried in this order, so that
+// a tie goes to the earlier: the largest factor on y, then on z, x last (halo_cost).
+constexpr std::array<Int3, 6> kPermutations{{{2, 0, 1}, {1, 0, 2}, {2, 1, 0}, {1, 2, 0}, {0, 2, 1}, {0, 1, 2}}};
+
+bool keeps(const Int3& d, const Int3& forced) {
+  for (int a = 0; a < 3; ++a)
+    if (forced[a] > 0 && d[a] != forced[a]) return false;
+  return true;
+}
+
+// The permutation of `factors` that keeps `forced` and costs the least (halo_cost) of those
+// `fits` accepts, for blocks block_of(d); {0, 0, 0} when none is accepted.
+template <class Fits, class BlockOf>
+Int3 cheapest_permutation(const Int3& factors, const Int3& forced, Fits fits, BlockOf block_of) {
+  Int3 best{0, 0, 0};
+  double best_cost = std::numeric_limits<double>::infinity();
+  for (const Int3& p : kPermutations) {
+    const Int3 d{factors[p[0]], factors[p[1]], factors[p[2]]};
+    if (!keeps(d, forced) || !fits(d)) continue;
+    const double c = halo_cost(d, block_of(d));
+    if (c < best_cost) best_cost = c, best = d;
+  }
+  return best;
+}
+
+// MPI_Dims_create's balanced grid (keeping `forced`), its factors largest first.
+Int3 balanced_factors(int ranks, const Int3& forced) {
+  Int3 f = forced;
+  MPI_Dims_create(ranks, 3, f.data());
+  std::sort(f.begin(), f.end(), std::greater<int>());
+  return f;
 }
 
 }  // namespace
+
+double halo_cost(const Int3& dims, const Int3& block) {
+  const double face[3] = {double(block[1]) * block[2], double(block[0]) * block[2], double(block[0]) * block[1]};
+  double cost = 0;
+  for (int a = 0; a < 3; ++a) {
+    if (dims[a] == 1) continue;
+    const double sides = a == 1 ? 2.0 * (dims[1] - 1) / dims[1] : 2.0;
+    cost += (a == 0 ? kXFaceWeight : 1.0) * sides * face[a];
+  }
+  return cost;
+}
+
+Int3 choose_block_dims(int ranks, const Int3& block) {
+  if (ranks < 1) throw ConfigError("rank count " + std::to_string(ranks) + " must be at least 1");
+  return cheapest_permutation(balanced_factors(ranks, {0, 0, 0}), {0, 0, 0}, [](const Int3&) { return true; },
+                              [&](const Int3&) { return block; });
+}
 
 Int3 choose_dims(int ranks, const Int3& global, int min_block, const Int3& forced) {
   for (int a = 0; a < 3; ++a) {
@@ -64,10 +106,12 @@ Int3 choose_dims(int ranks, const Int3& global, int min_block, const Int3& force
   Int3 dims = forced;
   MPI_Dims_create(ranks, 3, dims.data());
   const std::string first = misfit(dims, global, min_block);
-  if (first.empty()) return dims;
-
-  Int3 best{0, 0, 0};
-  double best_surface = std::numeric_limits<double>::infinity();
+  auto fits = [&](const Int3& d) { return misfit(d, global, min_block).empty(); };
+  auto block_of = [&](const Int3& d) { return Int3{global[0] / d[0], global[1] / d[1], global[2] / d[2]}; };
+  Int3 best = cheapest_permutation(balanced_factors(ranks, forced), forced, fits, block_of);
+  if (best[0] != 0) return best;
+  // No balanced grid divides this one: any that does, the cheapest.
+  double best_cost = std::numeric_limits<double>::infinity();
   for (int px = 1; px <= ranks; ++px) {
     if (ranks % px || (forced[0] > 0 && px != forced[0])) continue;
     for (int py = 1; py <= ranks / px; ++py) {
@@ -75,9 +119,9 @@ Int3 choose_dims(int ranks, const Int3& global, int min_block, const Int3& force
       const int pz = ranks / px / py;
       if (forced[2] > 0 && pz != forced[2]) continue;
       const Int3 d{px, py, pz};
-      if (!misfit(d, global, min_block).empty()) continue;
-      const double s = halo_surface(d, global);
-      if (s < best_surface) best_surface = s, best = d;
+      if (!fits(d)) continue;
+      const double c = halo_cost(d, block_of(d));
+      if (c < best_cost) best_cost = c, best = d;
     }
   }
   if (best[0] == 0) {

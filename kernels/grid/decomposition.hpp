@@ -6,12 +6,28 @@
 
 namespace efsi {
 
+// An x face weighs this many y or z face cells in halo_cost.  Lines run along x, so an x
+// face is packed a value or three per row and the async shell beside it runs strided
+// lines; on 2 ranks of a 128 x 64 x 64 channel a cut in x cost more than a cut of twice
+// the face cells in y or z (docs/architecture.md, 'Rank grid per method').
+inline constexpr double kXFaceWeight = 3.0;
+
+// Face cells a rank of grid `dims` with local `block` exchanges, a mean over the ranks:
+// both faces of a cut periodic axis, on y one fewer face than ranks (the walls), x faces
+// weighted kXFaceWeight.
+double halo_cost(const Int3& dims, const Int3& block);
+
 // Chooses PX x PY x PZ for `ranks` ranks.  Entries of `forced` that are > 0 are kept.
-// Starts from MPI_Dims_create; when its answer does not divide the grid, takes the
-// dividing factorisation with the smallest halo surface.  Throws ConfigError naming the
-// numbers when no decomposition fits (product mismatch, grid not divisible, local block
-// thinner than `min_block`).  Pure and deterministic: every rank reaches the same verdict.
+// Takes the permutation of MPI_Dims_create's balanced factors with the least halo_cost
+// that divides the grid (ties: y cut before z, z before x); when none divides it, the
+// dividing factorisation with the least halo_cost.  Throws ConfigError naming the numbers
+// when no decomposition fits (product mismatch, grid not divisible, local block thinner
+// than `min_block`).  Pure and deterministic: every rank reaches the same verdict.
 Int3 choose_dims(int ranks, const Int3& global_cells, int min_block, const Int3& forced = {0, 0, 0});
+
+// The same choice for a fixed `block` per rank, where the grid times the block is the box
+// (weak scaling): the permutation of the balanced factors with the least halo_cost.
+Int3 choose_block_dims(int ranks, const Int3& block);
 
 class CartDecomposition {
  public:

@@ -9,7 +9,6 @@
 namespace efsi {
 namespace {
 
-constexpr int kSelf = 13;
 // x-face runs are only halo-wide (1 to 3 values): a call to memcpy per run would cost
 // more than the copy itself.
 inline void copy_run(double* __restrict dst, const double* __restrict src, int len) {

@@ -47,13 +47,19 @@ class HaloExchange {
   void progress();
   void finish();
 
+  // Whether the ghosts beyond the face on `side` (-1 or +1) of `axis` are current when
+  // begin() returns: the face's neighbour is this rank itself (not another, not a wall).
+  bool face_current_at_begin(int axis, int side) const {
+    return peer_[kSelf + side * (axis == 0 ? 1 : axis == 1 ? 3 : 9)] == self_;
+  }
   std::size_t bytes_sent_mpi() const { return mpi_doubles_ * sizeof(double); }  // per call, this rank
   std::size_t bytes_copied_local() const { return local_doubles_ * sizeof(double); }
   int messages_sent() const { return mpi_messages_; }
   const std::vector<Field*>& fields() const { return fields_; }
 
  private:
-  static constexpr int kDirs = 27;  // index (sx+1) + 3 (sy+1) + 9 (sz+1); 13 is the rank itself
+  static constexpr int kDirs = 27;  // index (sx+1) + 3 (sy+1) + 9 (sz+1)
+  static constexpr int kSelf = 13;  // (0, 0, 0): the rank itself
   struct Run {  // `rows` x-runs of `len` points, `stride` apart (one y-column of a box at fixed k)
     int field;
     int len;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
+#include <utility>
 
 #include "box_loops.hpp"
 #include "constitutive.hpp"
@@ -151,9 +152,17 @@ KernelBoxes full_boxes(const Int3& n) {
   return {{{-1, -1, -1}, n}, {{0, 0, 0}, {n[0] + 1, n[1] + 1, n[2] + 1}}, {{0, 0, 0}, n}, {{0, 0, 0}, n}};
 }
 
-KernelBoxes interior_boxes(const Int3& n) {
+KernelBoxes interior_boxes(const Int3& n, const CurrentSides& current) {
   const Int3 m1{n[0] - 1, n[1] - 1, n[2] - 1}, m3{n[0] - 3, n[1] - 3, n[2] - 3};
-  return {{{0, 0, 0}, m1}, {{1, 1, 1}, n}, {{1, 1, 1}, m1}, {{3, 3, 3}, m3}};
+  const KernelBoxes full = full_boxes(n);
+  KernelBoxes in{{{0, 0, 0}, m1}, {{1, 1, 1}, n}, {{1, 1, 1}, m1}, {{3, 3, 3}, m3}};
+  for (auto [b, f] : {std::pair{&in.stress_centres, &full.stress_centres}, std::pair{&in.stress_edges, &full.stress_edges},
+                      std::pair{&in.momentum, &full.momentum}, std::pair{&in.transport, &full.transport}})
+    for (int a = 0; a < 3; ++a) {
+      if (current[a][0]) b->lo[a] = f->lo[a];
+      if (current[a][1]) b->hi[a] = f->hi[a];
+    }
+  return in;
 }
 
 void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 6>& tau,

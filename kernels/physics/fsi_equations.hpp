@@ -23,12 +23,16 @@ struct FsiWork {
 };
 
 // Output ranges of the kernels over the whole local block (ghost reads included) and
-// over the part that reads no ghost at all.
+// over the part that reads no ghost a pending exchange has yet to fill.
 struct KernelBoxes {
   Box stress_centres, stress_edges, momentum, transport;
 };
 KernelBoxes full_boxes(const Int3& n);
-KernelBoxes interior_boxes(const Int3& n);
+// The sides [axis][0: low, 1: high] whose ghosts are current while the exchange is in
+// flight keep the full range: there a point may read its ghosts.  Every other side gives
+// up the points that would read them.
+using CurrentSides = std::array<std::array<bool, 2>, 3>;
+KernelBoxes interior_boxes(const Int3& n, const CurrentSides& current = {});
 
 // tau = 2 mu D + G sqrt(phi) (Bt - tr(Bt)/3 I): diagonal on `centres`, off-diagonal on `edges`.
 // It first fills `root` = sqrt(max(phi, 0)) on the centres these points read, and leaves it

@@ -24,6 +24,11 @@ FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, cons
   for (const StepExchangeSpec& x : kStepExchanges)
     halos_[static_cast<int>(x.id)] =
         std::make_unique<HaloExchange>(decomp, step_exchange_fields(x.id, state_, work_), x.reach, &timers_);
+  // A periodic wrap onto this rank itself is copied when the exchange begins: the
+  // interior may run up to those faces, and their strided shells (x) are not needed.
+  const HaloExchange& state_halo = *halos_[static_cast<int>(StepExchange::state)];
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) current_sides_[a][side] = state_halo.face_current_at_begin(a, 2 * side - 1);
   if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_);
   if (integrator_.stages.size() > 1) start_ = std::make_unique<FsiState>(decomp, domain);
   pressure_->attach(decomp, domain, work_, timers_);
@@ -106,7 +111,7 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   const Int3 n = decomp_.local();
   const KernelBoxes full = full_boxes(n);
   const bool split = in_flight(StepExchange::state);
-  const KernelBoxes in = split ? interior_boxes(n) : full;
+  const KernelBoxes in = split ? interior_boxes(n, current_sides_) : full;
 
   tendencies(in);  // stress, dv/dt, dphi/dt and dBt/dt
   complete(StepExchange::state);

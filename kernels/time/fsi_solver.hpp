@@ -100,6 +100,7 @@ class FsiSolver final : public Stepper {
   RegionTimers timers_;
   std::array<std::unique_ptr<HaloExchange>, kStepExchanges.size()> halos_;
   std::array<bool, kStepExchanges.size()> pending_{};
+  CurrentSides current_sides_{};  // of the state exchange, for interior_boxes
   std::unique_ptr<CrankNicolsonStress> cn_;
   std::unique_ptr<FsiState> start_;  // u^n, for integrators of more than one stage
   long steps_ = 0;

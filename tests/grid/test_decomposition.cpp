@@ -16,8 +16,36 @@ using efsi::Int3;
 using efsi::testing::config_error_of;
 using efsi::testing::world_size;
 
-TEST(ChooseDims, FollowsMpiDimsCreateWhenItDivides) {
+TEST(ChooseDims, HaloCostCountsFacesWallsAndTheXWeight) {
+  // 64^3 blocks: a face is 4096 cells.
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({1, 1, 1}, {64, 64, 64}), 0.0);
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({1, 1, 2}, {64, 64, 64}), 2 * 4096.0);
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({1, 2, 1}, {64, 64, 64}), 4096.0);  // each rank has a wall
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({1, 4, 1}, {64, 64, 64}), 1.5 * 4096.0);
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({2, 1, 1}, {64, 64, 64}), 2 * efsi::kXFaceWeight * 4096.0);
+  EXPECT_DOUBLE_EQ(efsi::halo_cost({2, 1, 2}, {32, 16, 8}), 2 * efsi::kXFaceWeight * 16 * 8 + 2.0 * 32 * 16);
+}
+
+TEST(ChooseDims, CheapestPermutationOfTheBalancedFactors) {
+  // A cube: y first (walls), then z; x is cut last.
+  EXPECT_EQ(efsi::choose_dims(2, {64, 64, 64}, 3), (Int3{1, 2, 1}));
+  EXPECT_EQ(efsi::choose_dims(4, {64, 64, 64}, 3), (Int3{1, 2, 2}));
   EXPECT_EQ(efsi::choose_dims(8, {64, 64, 64}, 3), (Int3{2, 2, 2}));
+  EXPECT_EQ(efsi::choose_dims(12, {48, 48, 48}, 3), (Int3{2, 3, 2}));
+  EXPECT_EQ(efsi::choose_dims(2, {64, 64, 64}, 3, {0, 1, 0}), (Int3{1, 1, 2}));
+  // The paper's strong-scaling box is long in x: a cut there has half the face cells, yet
+  // costs more than one in y.
+  EXPECT_EQ(efsi::choose_dims(2, {2048, 1024, 1024}, 3), (Int3{1, 2, 1}));
+  // A box long enough in x that its short x faces win.
+  EXPECT_EQ(efsi::choose_dims(2, {1024, 64, 64}, 3), (Int3{2, 1, 1}));
+  // Weak scaling: the block is fixed and the box follows the grid.
+  EXPECT_EQ(efsi::choose_block_dims(1, {64, 64, 64}), (Int3{1, 1, 1}));
+  EXPECT_EQ(efsi::choose_block_dims(2, {64, 64, 64}), (Int3{1, 2, 1}));
+  EXPECT_EQ(efsi::choose_block_dims(4, {64, 64, 64}), (Int3{1, 2, 2}));
+  EXPECT_EQ(efsi::choose_block_dims(8, {64, 64, 64}), (Int3{2, 2, 2}));
+}
+
+TEST(ChooseDims, DividesTheGridWithTheBalancedFactors) {
   EXPECT_EQ(efsi::choose_dims(1, {10, 12, 14}, 3), (Int3{1, 1, 1}));
   // The paper's strong-scaling grid on 8192 ranks: 64^3 cells per rank.
   const Int3 d = efsi::choose_dims(8192, {2048, 1024, 1024}, 3);
