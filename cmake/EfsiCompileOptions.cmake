@@ -19,6 +19,16 @@ elseif(EFSI_NATIVE)
 else()
   set(EFSI_TARGET_NAME generic)
 endif()
+# GCC keeps loops at 256-bit vectors on AVX-512 targets unless told otherwise; the WENO5
+# and stretching loops are compute-bound and gain from the full width (README, "Vector
+# width").  A target without AVX-512 (x86-64-v3, Zen 3) is not affected, and with
+# -ffp-contract=off the width moves no bit of any result.
+set(EFSI_VECTOR_WIDTH 512 CACHE STRING "Preferred vector width in bits (-mprefer-vector-width): 512, 256, 128 or none")
+set(_efsi_widths 512 256 128 none)
+if(NOT EFSI_VECTOR_WIDTH IN_LIST _efsi_widths)
+  message(FATAL_ERROR "EFSI_VECTOR_WIDTH=${EFSI_VECTOR_WIDTH} is not one of 512, 256, 128, none")
+endif()
+target_compile_options(efsi_options INTERFACE -mprefer-vector-width=${EFSI_VECTOR_WIDTH})
 # The build configuration in one word, for the counted gate's choice of baseline
 # (results/microbench/baseline/counts-<this>.json): target, compiler, build type.
 string(TOLOWER "${EFSI_TARGET_NAME}-${CMAKE_CXX_COMPILER_ID}-${CMAKE_CXX_COMPILER_VERSION}-${CMAKE_BUILD_TYPE}"
