@@ -26,8 +26,9 @@ inline constexpr PerCell kStress{144, 73};
 //   per component C: three skew-symmetric advection terms, each two flux velocities
 //   (add, mul: 2 each) and 0.5 h^-1 (up uc - lo uc) (mul, 2 mul, sub, mul: 5) = 9, summed
 //   (2 adds): 29; three stress-divergence terms (sub, mul: 2 each) summed: 8; grad p 2;
-//   uc + dt (-adv + (div tau - grad p)/rho + f): 6.  29 + 8 + 2 + 6 = 45, three: 135 flops.
-inline constexpr PerCell kMomentum{104, 135};
+//   -adv + (div tau - grad p)/rho + f: 4.  29 + 8 + 2 + 4 = 43, three: 129 flops.  The
+//   rate only: v* = v + dt dv/dt is the Euler update's pass (kEulerUpdate).
+inline constexpr PerCell kMomentum{104, 129};
 
 // compute_transport, WENO5 advection of phi and the six Bt components with the
 // upper-convected stretching of Bt (transport_component, weno5.hpp):
@@ -37,13 +38,19 @@ inline constexpr PerCell kMomentum{104, 135};
 //   (3 mul, 2 add, 2 add, mul, div) 9: 67; so 77.  One advection v_M dq/dx_M = average of
 //   v_M to q's location (2 points: 2 flops, or 8 points: 8 for an edge component along its
 //   unstaggered axis) + 77 + 1 (v *): 80 or 86.
-//   phi: 3 x 80 + 2 adds + phi - dt adv (2) = 244.
+//   phi: 3 x 80 + 2 adds + the sign (1) = 243.
 //   Bt_AB: 3 advections (240 for diagonal, 80 + 80 + 86 = 246 for edge components) + 2 adds;
 //   stretching sum_M L_AM Bt_MB + Bt_AM L_BM, each factor averaged to Bt_AB's location
 //   (gradient 2 flops per sample): 7 + 35 + 35 = 77 (diagonal) or 21 + 21 + 35 = 77 (edge),
-//   + 2 adds; Bt + dt (uc - adv) 3.  Diagonal 240 + 2 + 77 + 2 + 3 = 324, edge 330.
-//   total 244 + 3 x 324 + 3 x 330 = 2206 flops.
-inline constexpr PerCell kTransport{136, 2206};
+//   + 2 adds; uc - adv 1.  Diagonal 240 + 2 + 77 + 2 + 1 = 322, edge 328.
+//   total 243 + 3 x 322 + 3 x 328 = 2193 flops.  The rates only, as for the momentum.
+inline constexpr PerCell kTransport{136, 2193};
+
+// apply_tendency (integrator.cpp), the Euler update of one field: reads q and the rate r,
+//   writes q + dt r over r: 24 B, 2 flops.  A step runs it on v* (3 components) and on
+//   phi_new and B_new (7 fields).
+inline constexpr PerCell kEulerUpdate{24, 2};
+inline constexpr int kEulerUpdatesPerStep = 3 + 7;
 
 // add_stretching (Crank-Nicolson, once per step): the stretching part of the above on base:
 //   reads u, v, w, Bt (6), base (6), writes out (6): 21 x 8 = 168 B; per component
