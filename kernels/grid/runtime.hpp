@@ -1,6 +1,7 @@
 #pragma once
 // MPI and OpenMP start-up for every executable: MPI_Init_thread with at least
-// MPI_THREAD_FUNNELED (only the master thread calls MPI; grid loops are OpenMP).
+// MPI_THREAD_FUNNELED (only the master thread calls MPI; grid loops are OpenMP), and
+// subnormal numbers flushed to zero on every thread (runtime.cpp).
 namespace efsi {
 
 class Runtime {
@@ -20,6 +21,9 @@ class Runtime {
   int size_ = 1;
   int provided_ = 0;
 };
+
+// Whether the calling thread flushes subnormal results and operands to zero (x86 only).
+bool subnormals_flushed();
 
 // Sets the OpenMP thread count of later parallel regions; threads <= 0 leaves it as is.
 void set_threads(int threads);
