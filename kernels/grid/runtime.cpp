@@ -56,8 +56,8 @@ Runtime::Runtime(int& argc, char**& argv, int threads) {
     MPI_Abort(MPI_COMM_WORLD, 2);
   }
   set_threads(threads);
-  // Threads start with their creator's mode; the pool's are set as well, in case it exists.
-  flush_subnormals_here();
+  // On the master and the pool's threads (the master is one of them); threads made later
+  // start with their creator's mode.
 #pragma omp parallel
   flush_subnormals_here();
 }
