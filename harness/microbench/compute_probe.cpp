@@ -5,6 +5,8 @@
 
 #include <algorithm>
 
+#include "mul_add.hpp"
+
 namespace efsi::bench {
 namespace {
 constexpr std::size_t kBlock = 2048;  // doubles per thread
@@ -32,7 +34,7 @@ Times ComputeProbe::run(MPI_Comm comm) {
         for (std::size_t i = 0; i < kBlock; ++i) {
           double x = d[i];
 #pragma GCC unroll 8
-          for (int r = 0; r < kChain; ++r) x = x * m + c;
+          for (int r = 0; r < kChain; ++r) x = mul_add(x, m, c);
           d[i] = x;
         }
         benchmark::ClobberMemory();

@@ -1,8 +1,10 @@
 #pragma once
-// A compute-roof probe beside the triad probe (stream_probe.hpp): the add/multiply mix of
-// the stencils, vectorised as they are (no FMA: the kernels are built with
-// -ffp-contract=off, so a multiply and an add are two instructions there too).
-//   x = x * m + c, 8 times per element in a row, over 2048 doubles (16 KiB: L1-resident), so
+// A compute-roof probe beside the triad probe (stream_probe.hpp): the multiply-add of the
+// stencils, vectorised as they are.  It is the fused mul_add (mul_add.hpp) the WENO5 and
+// stretching loops use where the target has FMA, so the roof is the core's peak: on a core
+// whose FMA units also do every multiply and add (Intel), twice what separate multiplies and
+// adds reach; on Zen 4, whose separate adders stay idle here, the same.
+//   x = mul_add(x, m, c), 8 times per element in a row, over 2048 doubles (16 KiB: L1-resident), so
 //   the loop is bound by the floating-point pipes, not by memory; lanes and iterations are
 //   independent chains, enough of them in flight to hide the latency.
 // Every rank runs it at the same moment with its OpenMP threads, as the kernels run, so the

@@ -31,20 +31,23 @@ inline constexpr PerCell kStress{144, 73};
 inline constexpr PerCell kMomentum{104, 129};
 
 // compute_transport, WENO5 advection of phi and the six Bt components with the
-// upper-convected stretching of Bt (transport_component, weno5.hpp):
+// upper-convected stretching of Bt (transport_component, weno5.hpp); a fused multiply-add
+// (mul_add) counts 2 flops:
 //   reads u, v, w, phi, Bt11..Bt23 (10), writes phi_new, Bt_new (7): 17 x 8 = 136 B.
-//   weno5_derivative: 5 quotients (sub, mul) 10; weno5_upwind: candidates 5 + 4 + 4,
-//   indicators' differences 3 + 4 + 3 + 1 + 3 + 4, s_k 6 each, squares 3, alpha 6, final
-//   (3 mul, 2 add, 2 add, mul, div) 9: 67; so 77.  One advection v_M dq/dx_M = average of
-//   v_M to q's location (2 points: 2 flops, or 8 points: 8 for an edge component along its
-//   unstaggered axis) + 77 + 1 (v *): 80 or 86.
-//   phi: 3 x 80 + 2 adds + the sign (1) = 243.
-//   Bt_AB: 3 advections (240 for diagonal, 80 + 80 + 86 = 246 for edge components) + 2 adds;
+//   weno5_upwind_side: 5 raw differences 5; weno5_upwind: candidates 5 + 4 + 4, indicators'
+//   c 3 x 3 and l 4 + 1 + 4, s_k 5 each, squares 3, alpha 1 + 2 + 2, numerator 5,
+//   denominator 2, division 1: 62; so 67.  One advection v_M dq/dx_M = average of v_M to q's
+//   location (2 points: 2 flops, or 8 points: 8 for an edge component along its unstaggered
+//   axis) + 67 + |v| h^-1/6 and its product (2): 71 or 77.
+//   phi: 3 x 71 + 2 adds + the sign (1) = 216.
+//   Bt_AB: 3 advections (213 for diagonal, 71 + 71 + 77 = 219 for edge components) + 2 adds;
 //   stretching sum_M L_AM Bt_MB + Bt_AM L_BM, each factor averaged to Bt_AB's location
-//   (gradient 2 flops per sample): 7 + 35 + 35 = 77 (diagonal) or 21 + 21 + 35 = 77 (edge),
-//   + 2 adds; uc - adv 1.  Diagonal 240 + 2 + 77 + 2 + 1 = 322, edge 328.
-//   total 243 + 3 x 322 + 3 x 328 = 2193 flops.  The rates only, as for the momentum.
-inline constexpr PerCell kTransport{136, 2193};
+//   (grad_v_at: n raw differences averaged, then h^-1: 2, 5 or 9 flops for n = 1, 2, 4;
+//   a Bt average of 4 points 4; the term mul and mul_add 3): 7 + 29 + 29 = 65 (diagonal)
+//   or 18 + 18 + 29 = 65 (edge), + 2 adds; uc - adv 1.  Diagonal 213 + 2 + 65 + 2 + 1 = 283,
+//   edge 289.
+//   total 216 + 3 x 283 + 3 x 289 = 1932 flops.  The rates only, as for the momentum.
+inline constexpr PerCell kTransport{136, 1932};
 
 // apply_tendency (integrator.cpp), the Euler update of one field: reads q and the rate r,
 //   writes q + dt r over r: 24 B, 2 flops.  A step runs it on v* (3 components) and on
@@ -54,14 +57,14 @@ inline constexpr int kEulerUpdatesPerStep = 3 + 7;
 
 // add_stretching (Crank-Nicolson, once per step): the stretching part of the above on base:
 //   reads u, v, w, Bt (6), base (6), writes out (6): 21 x 8 = 168 B; per component
-//   77 + 2 adds + base + dt uc (2) = 81, six: 486 flops.
-inline constexpr PerCell kStretching{168, 486};
+//   65 + 2 adds + base + dt uc (2) = 69, six: 414 flops.
+inline constexpr PerCell kStretching{168, 414};
 
 // stretched_stress_owned (each Crank-Nicolson sweep): add_stretching and the six stress
 //   components fused, Bt* = base + dt uc kept in registers: reads u, v, w, Bt (6), base (6),
-//   sqrt(phi), writes tau (6): 22 x 8 = 176 B; flops 486 + 72 (kStress less its sqrt pass),
-//   and each of the three normal components forms all three diagonal Bt* (4 more each): 570.
-inline constexpr PerCell kStretchedStress{176, 570};
+//   sqrt(phi), writes tau (6): 22 x 8 = 176 B; flops 414 + 72 (kStress less its sqrt pass),
+//   and each of the three normal components forms all three diagonal Bt* (4 more each): 498.
+inline constexpr PerCell kStretchedStress{176, 498};
 
 // stress_divergence (Crank-Nicolson, once per step): reads tau (6), writes div (3): 72 B;
 //   per face component 3 x 2 + 2 = 8, three: 24.

@@ -1,5 +1,6 @@
 #include "halo_exchange.hpp"
 
+#include <algorithm>
 #include <climits>
 #include <cstring>
 #include <stdexcept>
@@ -125,6 +126,13 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
       ++mpi_messages_;
     }
   }
+  // Field by field, plane by plane: the two x-face runs of a row touch the same cache lines
+  // at its two ends (ghosts beside the owned points they copy from the other end), so run
+  // one after the other they bring those lines from memory once instead of twice.  Sources
+  // are owned points and destinations ghosts, so the order moves no value.
+  std::sort(self_runs_.begin(), self_runs_.end(), [](const SelfRun& a, const SelfRun& b) {
+    return a.field != b.field ? a.field < b.field : a.dst < b.dst;
+  });
   send_buf_.assign(send_total, 0.0);
   recv_buf_.assign(recv_total, 0.0);
 }

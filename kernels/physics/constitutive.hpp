@@ -30,6 +30,16 @@ inline double grad_v(const FieldSet& s, const InverseSpacing& inv, int i, int j,
   return difference<face_location(A), M>(s.vel(A), i, j, k, inv.h[M]);
 }
 
+// L_AM averaged to location T: the average of the raw differences, times h^-1 once (where
+// averaging the gradients would multiply each sample).
+template <int A, int M, Stagger T>
+inline double grad_v_at(const FieldSet& s, const InverseSpacing& inv, int i, int j, int k) {
+  const Field& v = s.vel(A);
+  return average<gradient_location(A, M), T>(
+             [&v](int x, int y, int z) { return difference<face_location(A), M>(v, x, y, z, 1.0); }, i, j, k) *
+         inv.h[M];
+}
+
 // D_AB at tensor_location(A, B).
 template <int A, int B>
 inline double strain_rate(const FieldSet& s, const InverseSpacing& inv, int i, int j, int k) {

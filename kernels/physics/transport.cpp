@@ -10,12 +10,18 @@
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
 #include "solid_cutoff.hpp"
+#include "mul_add.hpp"
 #include "weno5.hpp"
 
 namespace efsi {
 namespace {
 
-using Inv = InverseSpacing;
+// The inverse spacings and, per axis, the WENO5 constants, formed once per call rather than
+// per point (each holds a division).
+struct Inv : InverseSpacing {
+  Weno5Axis weno[3];
+  explicit Inv(const Domain& d) : InverseSpacing(d), weno{Weno5Axis(h[X]), Weno5Axis(h[Y]), Weno5Axis(h[Z])} {}
+};
 
 // v_M . d q / d x_M with the WENO5 upwind derivative, q at location T.
 template <Stagger T, int M>
@@ -23,24 +29,16 @@ template <Stagger T, int M>
   const double vel = average<face_location(M), T>(s.vel(M), i, j, k);
   const std::ptrdiff_t st = M == X ? 1 : M == Y ? q.stride_y() : q.stride_z();
   const double* c = q.data() + q.index(i, j, k);
-  return vel * weno5_derivative(c[-3 * st], c[-2 * st], c[-st], c[0], c[st], c[2 * st], c[3 * st], vel, inv.h[M]);
+  return weno5_advection(c[-3 * st], c[-2 * st], c[-st], c[0], c[st], c[2 * st], c[3 * st], vel, inv.weno[M]);
 }
 
 // (L.Bt + Bt.L^T)_AB at tensor_location(A, B), each factor averaged to that location.
 template <int A, int B, int M>
 [[gnu::always_inline]] inline double upper_convected_term(const FieldSet& s, const Inv& inv, int i, int j, int k) {
   constexpr Stagger T = tensor_location(A, B);
-  auto L = [&](auto a_tag, auto m_tag) {
-    constexpr int a = decltype(a_tag)::value, m = decltype(m_tag)::value;
-    return average<tensor_location(a, m), T>([&](int x, int y, int z) { return grad_v<a, m>(s, inv, x, y, z); }, i,
-                                             j, k);
-  };
-  using IA = std::integral_constant<int, A>;
-  using IB = std::integral_constant<int, B>;
-  using IM = std::integral_constant<int, M>;
   const double b_mb = average<tensor_location(M, B), T>(s.B(M, B), i, j, k);
   const double b_am = average<tensor_location(A, M), T>(s.B(A, M), i, j, k);
-  return L(IA{}, IM{}) * b_mb + b_am * L(IB{}, IM{});
+  return mul_add(grad_v_at<A, M, T>(s, inv, i, j, k), b_mb, b_am * grad_v_at<B, M, T>(s, inv, i, j, k));
 }
 
 // sum_M (L.Bt + Bt.L^T)_AB, the terms added along the line in the order M = X, Y, Z.
