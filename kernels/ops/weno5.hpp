@@ -56,8 +56,7 @@ struct Weno5Axis {
   const double p3 = mul_add(5.0, d4, mul_add(2.0, d3, -d5));
 
   // Jiang-Shu indicators 13/12 c^2 + 1/4 l^2, times 4 (the weights depend only on their
-  // ratios).  Each c and l has the same value read from either end of its three differences,
-  // which keeps the oddness above.
+  // ratios).
   const double c1 = mul_add(-2.0, d2, d1 + d3), l1 = mul_add(3.0, d3, mul_add(-4.0, d2, d1));
   const double c2 = mul_add(-2.0, d3, d2 + d4), l2 = d2 - d4;
   const double c3 = mul_add(-2.0, d4, d3 + d5), l3 = mul_add(3.0, d3, mul_add(-4.0, d4, d5));

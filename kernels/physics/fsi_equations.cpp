@@ -13,13 +13,26 @@ namespace {
 
 using Inv = InverseSpacing;
 
-template <int A, int B>
-void stress_component(const FieldSet& s, const Physics& ph, const Field& root, Field& t, const Box& box) {
+// tau_AB at (i, j, k) of its location.
+template <int A, int B, class Root>
+inline double stress_at(const FieldSet& s, const Inv& inv, double two_mu, double G, const Root& r, int i, int j,
+                        int k) {
+  return two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_stress_over_G<A, B>(s, r, i, j, k);
+}
+
+// The three components at one location in one loop: the rows of v, sqrt(phi) and Bt a
+// point reads serve all three while they are in cache (component by component, each pass
+// brought them from memory again).
+template <int A0, int B0, int A1, int B1, int A2, int B2>
+void stress_components(const FieldSet& s, const Physics& ph, const Field& root, Field& t0, Field& t1, Field& t2,
+                       const Box& box) {
   const Inv inv(s.domain());
   const double two_mu = 2.0 * ph.mu, G = ph.G;
   const auto r = [&root](int a, int b, int c) { return root(a, b, c); };
   for_box(box, [&](int i, int j, int k) {
-    t(i, j, k) = two_mu * strain_rate<A, B>(s, inv, i, j, k) + G * solid_stress_over_G<A, B>(s, r, i, j, k);
+    t0(i, j, k) = stress_at<A0, B0>(s, inv, two_mu, G, r, i, j, k);
+    t1(i, j, k) = stress_at<A1, B1>(s, inv, two_mu, G, r, i, j, k);
+    t2(i, j, k) = stress_at<A2, B2>(s, inv, two_mu, G, r, i, j, k);
   });
 }
 
@@ -79,19 +92,32 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
     return (t(i + ax, j + ay, k + az) - t(i, j, k)) * inv.h[A];
 }
 
-// Sets out to body(i, j, k) on the faces of component C in `box`, and to zero on the wall
-// faces of v.
-template <int C, class Body>
-void faces_of_component(const FieldSet& s, Field& out, const Box& box, Body&& body) {
-  if constexpr (C == Y) {
-    const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
-    split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
-      if (wall) for_box(b, [&](int i, int j, int k) { out(i, j, k) = 0.0; });
-      else for_box(b, [&](int i, int j, int k) { out(i, j, k) = body(i, j, k); });
-    });
-  } else {
-    for_box(box, [&](int i, int j, int k) { out(i, j, k) = body(i, j, k); });
-  }
+// Sets out[C] to body(C, i, j, k) on the faces of the three components in `box` in one
+// loop, and out[Y] to zero on the wall faces of v (global j = 0 and j = NY).  The rows of the
+// fields a face reads serve all three components while they are in cache (component by
+// component, each pass brought them from memory again).  C is a std::integral_constant.
+template <class Body>
+void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box& box, const Body& body) {
+  using CX = std::integral_constant<int, X>;
+  using CY = std::integral_constant<int, Y>;
+  using CZ = std::integral_constant<int, Z>;
+  Field &o0 = out[0], &o1 = out[1], &o2 = out[2];
+  const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
+  split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
+    if (wall) {
+      for_box(b, [&](int i, int j, int k) {
+        o0(i, j, k) = body(CX{}, i, j, k);
+        o1(i, j, k) = 0.0;
+        o2(i, j, k) = body(CZ{}, i, j, k);
+      });
+    } else {
+      for_box(b, [&](int i, int j, int k) {
+        o0(i, j, k) = body(CX{}, i, j, k);
+        o1(i, j, k) = body(CY{}, i, j, k);
+        o2(i, j, k) = body(CZ{}, i, j, k);
+      });
+    }
+  });
 }
 
 template <int C>
@@ -100,37 +126,18 @@ inline double divergence_of(const std::array<Field, 6>& tau, const Inv& inv, int
          stress_divergence_term<C, Z>(tau, inv, i, j, k);
 }
 
+// dv_C/dt at the face (i, j, k) of component C.
 template <int C>
-void momentum_component(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau, Field& out,
-                        const Box& box) {
-  const Inv inv(s.domain());
-  const Field& p = s.p();
+inline double momentum_rate(const FieldSet& s, const Inv& inv, const std::array<Field, 6>& tau, double inv_rho,
+                            double force, int i, int j, int k) {
   constexpr int cx = unit(C, X), cy = unit(C, Y), cz = unit(C, Z);
-  const double inv_rho = 1.0 / ph.rho;
-  const double force = C == X ? ph.force * inv_rho : 0.0;
-  // Wall faces of v (global j = 0 and j = NY) stay at rest.
-  faces_of_component<C>(s, out, box, [&](int i, int j, int k) {
-    const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
-                       advection_term<C, Z>(s, inv, i, j, k);
-    const double grad_p = (p(i, j, k) - p(i - cx, j - cy, k - cz)) * inv.h[C];
-    return -adv + (divergence_of<C>(tau, inv, i, j, k) - grad_p) * inv_rho + force;
-  });
+  const Field& p = s.p();
+  const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
+                     advection_term<C, Z>(s, inv, i, j, k);
+  const double grad_p = (p(i, j, k) - p(i - cx, j - cy, k - cz)) * inv.h[C];
+  return -adv + (divergence_of<C>(tau, inv, i, j, k) - grad_p) * inv_rho + (C == X ? force : 0.0);
 }
 
-template <int C>
-void stress_divergence_component(const std::array<Field, 6>& tau, const FieldSet& s, Field& out, const Box& box) {
-  const Inv inv(s.domain());
-  faces_of_component<C>(s, out, box, [&](int i, int j, int k) { return divergence_of<C>(tau, inv, i, j, k); });
-}
-
-template <int C>
-void stress_difference_component(const std::array<Field, 6>& tau_a, const Field& div_b, const FieldSet& s, double c,
-                                 const Field& base, Field& out, const Box& box) {
-  const Inv inv(s.domain());
-  faces_of_component<C>(s, out, box, [&](int i, int j, int k) {
-    return base(i, j, k) + c * (divergence_of<C>(tau_a, inv, i, j, k) - div_b(i, j, k));
-  });
-}
 }  // namespace
 
 FsiWork::FsiWork(const CartDecomposition& decomp)
@@ -169,19 +176,17 @@ void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::arra
                     const Box& centres, const Box& edges) {
   if (centres.empty() && edges.empty()) return;
   solid_root(s.phi(), root, centres, edges);
-  stress_component<0, 0>(s, ph, root, tau[0], centres);
-  stress_component<1, 1>(s, ph, root, tau[1], centres);
-  stress_component<2, 2>(s, ph, root, tau[2], centres);
-  stress_component<0, 1>(s, ph, root, tau[3], edges);
-  stress_component<0, 2>(s, ph, root, tau[4], edges);
-  stress_component<1, 2>(s, ph, root, tau[5], edges);
+  stress_components<0, 0, 1, 1, 2, 2>(s, ph, root, tau[0], tau[1], tau[2], centres);
+  stress_components<0, 1, 0, 2, 1, 2>(s, ph, root, tau[3], tau[4], tau[5], edges);
 }
 
 void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
                        std::array<Field, 3>& dvdt, const Box& faces) {
-  momentum_component<X>(s, ph, tau, dvdt[0], faces);
-  momentum_component<Y>(s, ph, tau, dvdt[1], faces);
-  momentum_component<Z>(s, ph, tau, dvdt[2], faces);
+  const Inv inv(s.domain());
+  const double inv_rho = 1.0 / ph.rho, force = ph.force * inv_rho;
+  faces_of_components(s, dvdt, faces, [&](auto c, int i, int j, int k) {
+    return momentum_rate<decltype(c)::value>(s, inv, tau, inv_rho, force, i, j, k);
+  });
 }
 
 Box owned_extent(const Field& q, const Box& cells) {
@@ -203,17 +208,19 @@ namespace efsi {
 
 void stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, std::array<Field, 3>& out,
                        const Box& faces) {
-  stress_divergence_component<X>(tau, s, out[0], faces);
-  stress_divergence_component<Y>(tau, s, out[1], faces);
-  stress_divergence_component<Z>(tau, s, out[2], faces);
+  const Inv inv(s.domain());
+  faces_of_components(s, out, faces,
+                      [&](auto c, int i, int j, int k) { return divergence_of<decltype(c)::value>(tau, inv, i, j, k); });
 }
 
 void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
                                       const std::array<Field, 3>& div_b, double c, const std::array<Field, 3>& base,
                                       std::array<Field, 3>& out, const Box& faces) {
-  stress_difference_component<X>(tau_a, div_b[0], s, c, base[0], out[0], faces);
-  stress_difference_component<Y>(tau_a, div_b[1], s, c, base[1], out[1], faces);
-  stress_difference_component<Z>(tau_a, div_b[2], s, c, base[2], out[2], faces);
+  const Inv inv(s.domain());
+  faces_of_components(s, out, faces, [&](auto m, int i, int j, int k) {
+    constexpr int C = decltype(m)::value;
+    return base[C](i, j, k) + c * (divergence_of<C>(tau_a, inv, i, j, k) - div_b[C](i, j, k));
+  });
 }
 
 }  // namespace efsi
