@@ -2,7 +2,8 @@
 add_library(efsi_options INTERFACE)
 # -ffp-contract=off: a point must round the same in the vector body and the scalar
 # remainder of a loop, or results would depend on where a box starts (async halo mode,
-# decomposition); -fno-math-errno lets sqrt vectorise.
+# decomposition); the kernels that want a fused multiply-add ask for it (mul_add.hpp).
+# -fno-math-errno lets sqrt and fma vectorise.
 target_compile_options(efsi_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
   -ffp-contract=off -fno-math-errno -fopenmp-simd
@@ -22,7 +23,7 @@ endif()
 # GCC keeps loops at 256-bit vectors on AVX-512 targets unless told otherwise; the WENO5
 # and stretching loops are compute-bound and gain from the full width (README, "Vector
 # width").  A target without AVX-512 (x86-64-v3, Zen 3) is not affected, and with
-# -ffp-contract=off the width moves no bit of any result.
+# -ffp-contract=off (and std::fma where asked for) the width moves no bit of any result.
 set(EFSI_VECTOR_WIDTH 512 CACHE STRING "Preferred vector width in bits (-mprefer-vector-width): 512, 256, 128 or none")
 set(_efsi_widths 512 256 128 none)
 if(NOT EFSI_VECTOR_WIDTH IN_LIST _efsi_widths)
