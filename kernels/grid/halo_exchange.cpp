@@ -60,8 +60,13 @@ Box recv_box(const Field& f, const Int3& s) {
 }  // namespace
 
 HaloExchange::HaloExchange(const CartDecomposition& decomp, std::vector<Field*> fields, Reach reach,
-                           RegionTimers* timers)
-    : fields_(std::move(fields)), reach_(reach), timers_(timers), self_(decomp.rank()), comm_(decomp.comm()) {
+                           RegionTimers* timers, std::array<bool, 3> axes)
+    : fields_(std::move(fields)),
+      reach_(reach),
+      axes_(axes),
+      timers_(timers),
+      self_(decomp.rank()),
+      comm_(decomp.comm()) {
   for (const Field* f : fields_) {
     if (f->n() != decomp.local() || f->offset() != decomp.offset())
       throw std::invalid_argument("HaloExchange: field " + f->name() + " belongs to another decomposition");
@@ -79,6 +84,7 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
     const Int3 s = step_of(d);
     const int nonzero = (s[0] != 0) + (s[1] != 0) + (s[2] != 0);
     if (reach_ == Reach::faces && nonzero > 1) continue;
+    if ((s[0] != 0 && !axes_[0]) || (s[1] != 0 && !axes_[1]) || (s[2] != 0 && !axes_[2])) continue;
     peer_[d] = decomp.neighbour(s);
     if (peer_[d] == MPI_PROC_NULL) continue;
 
@@ -138,6 +144,7 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
 }
 
 void HaloExchange::build_walls(const CartDecomposition& decomp) {
+  if (!axes_[Y]) return;
   for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
     const Field& f = *fields_[fi];
     const int h = f.halo();

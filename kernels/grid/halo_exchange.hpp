@@ -14,6 +14,7 @@
 // the ghosts; even: extended evenly).
 #include <mpi.h>
 
+#include <array>
 #include <cstddef>
 #include <vector>
 
@@ -29,8 +30,11 @@ class HaloExchange {
  public:
   // Fields must outlive the exchange and share the decomposition; buffers and copy
   // lists are built here once and reused every call.
+  // `axes`: the axes exchanged.  A direction that steps along a left-out axis is skipped,
+  // and its ghosts are left as they are, but for the wall face rows of an odd y-face field,
+  // which the wall rule zeroes whole; leaving out y leaves the walls alone too.
   HaloExchange(const CartDecomposition& decomp, std::vector<Field*> fields, Reach reach = Reach::full,
-               RegionTimers* timers = nullptr);
+               RegionTimers* timers = nullptr, std::array<bool, 3> axes = {true, true, true});
   HaloExchange(const HaloExchange&) = delete;
   HaloExchange& operator=(const HaloExchange&) = delete;
 
@@ -91,6 +95,7 @@ class HaloExchange {
 
   std::vector<Field*> fields_;
   Reach reach_;
+  std::array<bool, 3> axes_;
   RegionTimers* timers_;
   int self_ = 0;
   MPI_Comm comm_ = MPI_COMM_NULL;

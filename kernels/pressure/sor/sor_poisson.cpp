@@ -81,8 +81,13 @@ SorPoisson::SorPoisson(const CartDecomposition& decomp, const Domain& domain, Fi
   // on this rank, a row can take both in one pass, the second after the row's own ends
   // are copied into its x ghosts. The values are those of four separate passes, bit for
   // bit, with half the passes over memory and half the exchanges.
-  if (sor_fuses_colour_pairs(decomp.dims())) stages_ = {{0, true}, {2, true}};
-  else stages_ = {{0, false}, {1, false}, {2, false}, {3, false}};
+  if (sor_fuses_colour_pairs(decomp.dims())) {
+    stages_ = {{0, true}, {2, true}};
+    stage_halo_ = std::make_unique<HaloExchange>(decomp, std::vector<Field*>{&x}, Reach::faces, timers,
+                                                 std::array<bool, 3>{false, true, true});
+  } else {
+    stages_ = {{0, false}, {1, false}, {2, false}, {3, false}};
+  }
 }
 
 // One point's SOR update: the single formula every loop below uses, so that rows and
@@ -124,9 +129,9 @@ void SorPoisson::update_rows(const Field& rhs, double factor, int colour, const 
       const double* const f = same_layout ? rd + rhs.index(0, j, k) : nullptr;
       const double wlo = wy_lo_[j], whi = wy_hi_[j], wd = omega_over_diag_[j];
       for (int c = 0; c < (kPair ? 2 : 1); ++c) {
-        if (c == 1) {
+        if (kPair) {
           // The row is the whole periodic x extent (sor_fuses_colour_pairs): its own ends
-          // are its x ghosts, as the exchange between the two colours would have set them.
+          // are its x ghosts, as an exchange before each colour would have set them.
           r[-1] = r[nx - 1];
           r[nx] = r[0];
         }
@@ -163,7 +168,7 @@ void SorPoisson::update_columns(const Field& rhs, double factor, int colour, con
   }
 }
 
-void SorPoisson::update_interior(const Field& rhs, double factor, const Stage& stage) {
+void SorPoisson::update_interior(const Field& rhs, double factor, const Stage& stage, HaloExchange& flight) {
   // In slabs of k, with a progress call after each, so that the exchange in flight moves
   // while the interior is updated (the colour of a point does not depend on the slab).
   constexpr int kSlabs = 8;
@@ -177,7 +182,7 @@ void SorPoisson::update_interior(const Field& rhs, double factor, const Stage& s
       RegionTimers::Scope t(timers_, kSorSweepsRegion);
       update(rhs, factor, stage, slab);
     }
-    halo_.progress();
+    flight.progress();
   }
 }
 
@@ -188,6 +193,10 @@ void SorPoisson::update_boundary(const Field& rhs, double factor, const Stage& s
 
 void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
   if (n <= 0) return;
+  // The exchange after stage m of the n sweeps: between stages, or whole after the last.
+  const long last = static_cast<long>(n) * static_cast<long>(stages_.size()) - 1;
+  auto after = [&](long m) -> HaloExchange& { return m == last ? halo_ : between_stages(); };
+  long m = 0;
   // With no message to overlap (every neighbour this rank itself), async runs as sync.
   if (comm_ == CommMode::sync || halo_.messages_sent() == 0) {
     halo_.exchange();
@@ -197,19 +206,21 @@ void SorPoisson::sweeps(const Field& rhs, int n, double factor) {
           RegionTimers::Scope t(timers_, kSorSweepsRegion);
           update(rhs, factor, stage, owned_);
         }
-        halo_.exchange();
+        after(m++).exchange();
       }
   } else {
     // The exchange in flight always carries the previous stage (or the caller's field).
-    halo_.begin();
+    HaloExchange* flight = &halo_;
+    flight->begin();
     for (int s = 0; s < n; ++s)
       for (const Stage& stage : stages_) {
-        update_interior(rhs, factor, stage);
-        halo_.finish();
+        update_interior(rhs, factor, stage, *flight);
+        flight->finish();
         update_boundary(rhs, factor, stage);
-        halo_.begin();
+        flight = &after(m++);
+        flight->begin();
       }
-    halo_.finish();
+    flight->finish();
   }
 }
 
