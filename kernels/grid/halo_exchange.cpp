@@ -107,7 +107,7 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
       auto add_runs = [&](const Box& b, std::vector<Run>& runs, std::size_t& total) {
         const int blen = b.hi[X] - b.lo[X], brows = b.hi[Y] - b.lo[Y];
         for (int k = b.lo[Z]; k < b.hi[Z]; ++k) {
-          runs.push_back(Run{fi, blen, brows, f.index(b.lo[X], b.lo[Y], k), f.stride_y(), total});
+          runs.push_back(Run{d, fi, blen, brows, f.index(b.lo[X], b.lo[Y], k), f.stride_y(), total});
           total += static_cast<std::size_t>(blen) * static_cast<std::size_t>(brows);
         }
       };
@@ -220,6 +220,7 @@ void HaloExchange::unpack_and_walls() {
 #pragma omp for schedule(static)
     for (std::size_t r = 0; r < nr; ++r) {
       const Run& run = recv_runs_[r];
+      if (unpacked_[run.dir]) continue;
       copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
     // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
@@ -267,10 +268,12 @@ void HaloExchange::begin() {
   if (in_flight_) throw std::logic_error("HaloExchange::begin twice without finish");
   in_flight_ = true;
   requests_.clear();
+  for (int d = 0; d < kDirs; ++d) recv_request_[d] = -1, unpacked_[d] = false;
   {
     RegionTimers::Scope t(timers_, Region::halo_mpi);
     for (int d = 0; d < kDirs; ++d) {
       if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
+      recv_request_[d] = static_cast<int>(requests_.size());
       requests_.emplace_back();
       MPI_Irecv(recv_buf_.data() + recv_off_[d], static_cast<int>(recv_count_[d]), MPI_DOUBLE, peer_[d],
                 opposite(d), comm_, &requests_.back());
@@ -305,6 +308,30 @@ void HaloExchange::finish() {
   }
   in_flight_ = false;
   unpack_and_walls();
+  for (int d = 0; d < kDirs; ++d) unpacked_[d] = false;
+}
+
+void HaloExchange::finish_across(int axis) {
+  if (!in_flight_) throw std::logic_error("HaloExchange::finish_across without begin");
+  auto crosses = [axis](int d) { return step_of(d)[axis] != 0; };
+  {
+    RegionTimers::Scope t(timers_, Region::halo_wait);
+    for (int d = 0; d < kDirs; ++d)
+      if (crosses(d) && recv_request_[d] >= 0)
+        MPI_Wait(&requests_[static_cast<std::size_t>(recv_request_[d])], MPI_STATUS_IGNORE);
+  }
+  RegionTimers::Scope t(timers_, Region::halo_unpack);
+  Field* const* f = fields_.data();
+  double* buf = recv_buf_.data();
+  const std::size_t nr = recv_runs_.size();
+#pragma omp parallel for schedule(static)
+  for (std::size_t r = 0; r < nr; ++r) {
+    const Run& run = recv_runs_[r];
+    if (!crosses(run.dir)) continue;
+    copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
+  }
+  for (int d = 0; d < kDirs; ++d)
+    if (crosses(d) && recv_request_[d] >= 0) unpacked_[d] = true;
 }
 
 }  // namespace efsi

@@ -50,6 +50,11 @@ class HaloExchange {
   // large message (rendezvous protocol) waits for finish() to start, and nothing overlaps.
   void progress();
   void finish();
+  // Between begin() and finish(): waits for the messages that cross the faces of `axis`
+  // (the faces, and the edges and corners with a step along it) and fills those ghosts;
+  // the walls and the other directions wait for finish().  With the ghosts beyond both x
+  // faces current, a stage can take whole rows before the rest arrives.
+  void finish_across(int axis);
 
   // Whether the ghosts beyond the face on `side` (-1 or +1) of `axis` are current when
   // begin() returns: the face's neighbour is this rank itself (not another, not a wall).
@@ -65,6 +70,7 @@ class HaloExchange {
   static constexpr int kDirs = 27;  // index (sx+1) + 3 (sy+1) + 9 (sz+1)
   static constexpr int kSelf = 13;  // (0, 0, 0): the rank itself
   struct Run {  // `rows` x-runs of `len` points, `stride` apart (one y-column of a box at fixed k)
+    int dir;  // the neighbour direction
     int field;
     int len;
     int rows;
@@ -106,6 +112,8 @@ class HaloExchange {
   std::vector<WallRun> wall_zero_, wall_mirror_;
   std::vector<double> send_buf_, recv_buf_;
   std::vector<MPI_Request> requests_;
+  int recv_request_[kDirs];       // index in requests_ of the receive from each direction, or -1
+  bool unpacked_[kDirs]{};        // ghosts of the direction already filled (finish_across)
   std::size_t mpi_doubles_ = 0, local_doubles_ = 0;
   int mpi_messages_ = 0;
   bool in_flight_ = false;

@@ -251,3 +251,40 @@ TEST(HaloExchange, LeftOutAxisKeepsItsGhostsAndFillsTheOthers) {
       MPI_Barrier(MPI_COMM_WORLD);
     }
 }
+
+// finish_across(X) between begin() and finish() fills every ghost beyond the x faces (with
+// y owned: the wall rows wait for finish()), and finish() then leaves the fields bitwise as a
+// plain exchange does.
+TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
+  int p = 1;
+  MPI_Comm_size(MPI_COMM_WORLD, &p);
+  const auto specs = test_specs();
+  for (const Int3& dims : efsi::testing::fitting_decompositions(p, kGlobal, 3)) {
+    CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
+    const std::string where = "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank());
+    FieldSet early(dec, specs), plain(dec, specs);
+    HaloExchange early_x(dec, early.ptrs, Reach::full), plain_x(dec, plain.ptrs, Reach::full);
+    plain_x.exchange();
+    early_x.begin();
+    early_x.finish_across(X);
+    long long wrong = 0;
+    for (std::size_t n = 0; n < early.ptrs.size(); ++n) {
+      const Field& f = *early.ptrs[n];
+      const int h = f.halo();
+      for (int k = -h; k < f.n()[Z] + h; ++k)
+        for (int j = 0; j < f.owned_end(Y); ++j)
+          for (int i = -h; i < f.n()[X] + h; ++i) {
+            if (inside(f, X, i) || wall_face_row(f, j)) continue;
+            const double want = expected(f, static_cast<int>(n), f.offset()[X] + i, f.offset()[Y] + j, f.offset()[Z] + k);
+            if (!(f(i, j, k) == want) && wrong++ < 3)
+              ADD_FAILURE() << where << " field " << f.name() << " at local (" << i << "," << j << "," << k
+                            << "): got " << f(i, j, k) << ", want " << want;
+          }
+    }
+    EXPECT_EQ(wrong, 0) << where;
+    early_x.finish();
+    EXPECT_EQ(count_wrong(early, Reach::full, where), 0);
+    EXPECT_TRUE(bitwise_equal(early, plain)) << where;
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+}
