@@ -122,14 +122,23 @@ bool bitwise_equal(const FieldSet& a, const FieldSet& b) {
   return true;
 }
 
-void check_all_decompositions(Reach reach) {
+// body(decomposition, the test fields' specs, a label) on every decomposition the started
+// ranks can make of kGlobal, the ranks meeting after each.
+template <class Body>
+void for_each_decomposition(Body&& body) {
   int p = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &p);
   const auto specs = test_specs();
   for (const Int3& dims : efsi::testing::fitting_decompositions(p, kGlobal, 3)) {
     CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
-    const std::string where = "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank());
+    body(dec, specs, "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank()));
+    MPI_Barrier(MPI_COMM_WORLD);
+  }
+}
 
+void check_all_decompositions(Reach reach) {
+  for_each_decomposition([reach](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
+                                 const std::string& where) {
     FieldSet sync_set(dec, specs), async_set(dec, specs);
     HaloExchange sync_x(dec, sync_set.ptrs, reach);
     HaloExchange async_x(dec, async_set.ptrs, reach);
@@ -145,8 +154,7 @@ void check_all_decompositions(Reach reach) {
     async_x.begin();
     async_x.finish();
     EXPECT_TRUE(bitwise_equal(sync_set, async_set)) << where << " after a second exchange";
-    MPI_Barrier(MPI_COMM_WORLD);
-  }
+  });
 }
 
 }  // namespace
@@ -196,14 +204,10 @@ bool wall_face_row(const Field& f, int j) {
 // does and does not touch a ghost beyond the left-out axis's faces (nor, for y, the walls),
 // but for the wall face rows the wall rule zeroes whole.
 TEST(HaloExchange, LeftOutAxisKeepsItsGhostsAndFillsTheOthers) {
-  int p = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &p);
-  const auto specs = test_specs();
-  for (const Int3& dims : efsi::testing::fitting_decompositions(p, kGlobal, 3))
+  for_each_decomposition([](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
+                            const std::string& label) {
     for (int left_out = 0; left_out < 3; ++left_out) {
-      CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
-      const std::string where =
-          "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank()) + " axis " + std::to_string(left_out);
+      const std::string where = label + " axis " + std::to_string(left_out);
       std::array<bool, 3> axes{true, true, true};
       axes[left_out] = false;
       for (CommMode mode : {CommMode::sync, CommMode::async}) {
@@ -248,20 +252,16 @@ TEST(HaloExchange, LeftOutAxisKeepsItsGhostsAndFillsTheOthers) {
         }
         EXPECT_EQ(wrong, 0) << where << (mode == CommMode::sync ? " sync" : " async");
       }
-      MPI_Barrier(MPI_COMM_WORLD);
     }
+  });
 }
 
 // finish_across(X) between begin() and finish() fills every ghost beyond the x faces (with
 // y owned: the wall rows wait for finish()), and finish() then leaves the fields bitwise as a
 // plain exchange does.
 TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
-  int p = 1;
-  MPI_Comm_size(MPI_COMM_WORLD, &p);
-  const auto specs = test_specs();
-  for (const Int3& dims : efsi::testing::fitting_decompositions(p, kGlobal, 3)) {
-    CartDecomposition dec(MPI_COMM_WORLD, kGlobal, 3, dims);
-    const std::string where = "decomposition " + to_string(dims) + " rank " + std::to_string(dec.rank());
+  for_each_decomposition([](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
+                            const std::string& where) {
     FieldSet early(dec, specs), plain(dec, specs);
     HaloExchange early_x(dec, early.ptrs, Reach::full), plain_x(dec, plain.ptrs, Reach::full);
     plain_x.exchange();
@@ -285,6 +285,5 @@ TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
     early_x.finish();
     EXPECT_EQ(count_wrong(early, Reach::full, where), 0);
     EXPECT_TRUE(bitwise_equal(early, plain)) << where;
-    MPI_Barrier(MPI_COMM_WORLD);
-  }
+  });
 }
