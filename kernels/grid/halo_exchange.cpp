@@ -30,6 +30,8 @@ inline void copy_block(double* field, double* buf, int len, int rows, std::ptrdi
 
 Int3 step_of(int d) { return {d % 3 - 1, (d / 3) % 3 - 1, d / 9 - 1}; }
 int opposite(int d) { return 26 - d; }
+// Whether direction d steps across the faces of `axis` (none for axis -1).
+bool crosses(int d, int axis) { return axis >= 0 && step_of(d)[axis] != 0; }
 
 // Points this rank sends towards `s` (its own boundary planes) ...
 Box send_box(const Field& f, const Int3& s) {
@@ -220,7 +222,7 @@ void HaloExchange::unpack_and_walls() {
 #pragma omp for schedule(static)
     for (std::size_t r = 0; r < nr; ++r) {
       const Run& run = recv_runs_[r];
-      if (unpacked_[run.dir]) continue;
+      if (crosses(run.dir, finished_across_)) continue;  // unpacked by finish_across
       copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
     // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
@@ -268,7 +270,7 @@ void HaloExchange::begin() {
   if (in_flight_) throw std::logic_error("HaloExchange::begin twice without finish");
   in_flight_ = true;
   requests_.clear();
-  for (int d = 0; d < kDirs; ++d) recv_request_[d] = -1, unpacked_[d] = false;
+  for (int d = 0; d < kDirs; ++d) recv_request_[d] = -1;
   {
     RegionTimers::Scope t(timers_, Region::halo_mpi);
     for (int d = 0; d < kDirs; ++d) {
@@ -308,16 +310,15 @@ void HaloExchange::finish() {
   }
   in_flight_ = false;
   unpack_and_walls();
-  for (int d = 0; d < kDirs; ++d) unpacked_[d] = false;
+  finished_across_ = -1;
 }
 
 void HaloExchange::finish_across(int axis) {
   if (!in_flight_) throw std::logic_error("HaloExchange::finish_across without begin");
-  auto crosses = [axis](int d) { return step_of(d)[axis] != 0; };
   {
     RegionTimers::Scope t(timers_, Region::halo_wait);
     for (int d = 0; d < kDirs; ++d)
-      if (crosses(d) && recv_request_[d] >= 0)
+      if (crosses(d, axis) && recv_request_[d] >= 0)
         MPI_Wait(&requests_[static_cast<std::size_t>(recv_request_[d])], MPI_STATUS_IGNORE);
   }
   RegionTimers::Scope t(timers_, Region::halo_unpack);
@@ -327,11 +328,10 @@ void HaloExchange::finish_across(int axis) {
 #pragma omp parallel for schedule(static)
   for (std::size_t r = 0; r < nr; ++r) {
     const Run& run = recv_runs_[r];
-    if (!crosses(run.dir)) continue;
+    if (!crosses(run.dir, axis)) continue;
     copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
   }
-  for (int d = 0; d < kDirs; ++d)
-    if (crosses(d) && recv_request_[d] >= 0) unpacked_[d] = true;
+  finished_across_ = axis;
 }
 
 }  // namespace efsi

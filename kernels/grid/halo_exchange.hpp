@@ -113,7 +113,7 @@ class HaloExchange {
   std::vector<double> send_buf_, recv_buf_;
   std::vector<MPI_Request> requests_;
   int recv_request_[kDirs];       // index in requests_ of the receive from each direction, or -1
-  bool unpacked_[kDirs]{};        // ghosts of the direction already filled (finish_across)
+  int finished_across_ = -1;      // the axis finish_across already unpacked, or -1
   std::size_t mpi_doubles_ = 0, local_doubles_ = 0;
   int mpi_messages_ = 0;
   bool in_flight_ = false;

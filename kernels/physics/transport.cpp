@@ -9,8 +9,8 @@
 #include "box_loops.hpp"
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
-#include "solid_cutoff.hpp"
 #include "mul_add.hpp"
+#include "solid_cutoff.hpp"
 #include "weno5.hpp"
 
 namespace efsi {

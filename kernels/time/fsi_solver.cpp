@@ -113,8 +113,8 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   const bool split = in_flight(StepExchange::state);
   // The x faces' ghosts are waited for first: the points next to an x face would otherwise
   // run after the wait as lines 1 to 3 points long or strided along y, at several times the
-  // cost of a point in a whole row (measured: 2 ranks as 2x1x1, ACM, async 50 ms a step
-  // against sync 35).  The interior then takes whole rows, and only y and z overlap.
+  // cost of a point in a whole row (measured: 2 ranks as 2x1x1, ACM, async 48 ms a step
+  // against sync 32).  The interior then takes whole rows, and only y and z overlap.
   CurrentSides current = current_sides_;
   if (split && !(current[X][0] && current[X][1])) {
     halos_[static_cast<int>(StepExchange::state)]->finish_across(X);

@@ -20,7 +20,9 @@
 //          another rank. Faces at a wall (zero weight) or on the rank's own periodic wrap
 //          (ghosts copied in begin()) need no wait. The timers show the overlap: halo_wait
 //          (the final wait) against the sync mode's blocking halo_mpi.
-// The whole field travels each time (sending only the updated colour would halve it).
+// The whole field travels each time, less its x faces between fused passes (sending only
+// the updated colour would halve it).
+#include <memory>
 #include <vector>
 
 #include "comm_mode.hpp"
@@ -28,8 +30,6 @@
 #include "domain.hpp"
 #include "field.hpp"
 #include "paper_constants.hpp"
-#include <memory>
-
 #include "halo_exchange.hpp"
 #include "region_timers.hpp"
 
