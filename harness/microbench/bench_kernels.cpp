@@ -147,21 +147,23 @@ void BM_Stress(benchmark::State& state, int n) {
   });
 }
 
-// kMomentum: 104 B, 129 flops per cell.
+// kMomentum: 104 B, 135 flops per cell; the Euler update v* = v + dt dv/dt, as a step writes it.
 void BM_MomentumRhs(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
   bench::time_kernel(state, k.cost(bench::kMomentum), 1, [&] {
-    momentum_tendency(k.state().fields(), k.physics(), k.work.tau, k.work.vstar, full.momentum);
+    momentum_tendency(k.state().fields(), k.physics(), k.work.tau, k.work.vstar, full.momentum,
+                      RateOutput::euler_update(k.dt()));
   });
 }
 
-// kTransport: 136 B, 1932 flops per cell.
+// kTransport: 136 B, 1946 flops per cell; the Euler update of phi and Bt, as a step writes it.
 void BM_Transport(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
   bench::time_kernel(state, k.cost(bench::kTransport), 1, [&] {
-    transport_tendency(k.state().fields(), k.work.phi_new, k.work.B_new, full.transport);
+    transport_tendency(k.state().fields(), k.work.phi_new, k.work.B_new, full.transport, 0.0,
+                       RateOutput::euler_update(k.dt()));
   });
 }
 
@@ -250,16 +252,15 @@ void BM_GlobalReduction(benchmark::State& state) {
 }
 
 // One step: the sum of its kernels' counts (kernel_costs.hpp) and halo traffic (StepHalos):
-//   every method: stress + momentum + transport + the Euler updates of v*, phi and Bt +
-//   divergence + projection; the state
+//   every method: stress + momentum + transport (each with its Euler update) + divergence +
+//   projection; the state
 //   exchange (11 fields, 26 neighbours), the v* exchange and the D* exchange (faces);
 //   + the method's increment as it counts it (MethodSpec::increment_work), with its
 //   exchanges of a cell field's faces;
 //   + nc Crank-Nicolson sweeps when the method has them (each a v* exchange of 26
 //   neighbours and a tau exchange of faces, one more v* exchange at the end).
 PerCell step_cost(const StepCase& m, const Int3& global, const Int3& dims, const StepHalos& h) {
-  PerCell c = bench::kStress + bench::kMomentum + bench::kTransport +
-              bench::kEulerUpdatesPerStep * bench::kEulerUpdate + bench::kDivergence + bench::kProject;
+  PerCell c = bench::kStress + bench::kMomentum + bench::kTransport + bench::kDivergence + bench::kProject;
   c = c + PerCell{h.state + h.vstar_faces + h.cell_faces, 0};
   const IncrementWork inc = m.choice.spec->increment_work(m.choice, global, dims);
   c = c + inc.kernels + PerCell{inc.cell_face_exchanges * h.cell_faces, 0};

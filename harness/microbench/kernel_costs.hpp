@@ -26,9 +26,9 @@ inline constexpr PerCell kStress{144, 73};
 //   per component C: three skew-symmetric advection terms, each two flux velocities
 //   (add, mul: 2 each) and 0.5 h^-1 (up uc - lo uc) (mul, 2 mul, sub, mul: 5) = 9, summed
 //   (2 adds): 29; three stress-divergence terms (sub, mul: 2 each) summed: 8; grad p 2;
-//   -adv + (div tau - grad p)/rho + f: 4.  29 + 8 + 2 + 4 = 43, three: 129 flops.  The
-//   rate only: v* = v + dt dv/dt is the Euler update's pass (kEulerUpdate).
-inline constexpr PerCell kMomentum{104, 129};
+//   -adv + (div tau - grad p)/rho + f: 4; the Euler update v + dt dv/dt (rate_output.hpp;
+//   v is read for the advection anyway) 2.  29 + 8 + 2 + 4 + 2 = 45, three: 135 flops.
+inline constexpr PerCell kMomentum{104, 135};
 
 // compute_transport, WENO5 advection of phi and the six Bt components with the
 // upper-convected stretching of Bt (transport_component, weno5.hpp); a fused multiply-add
@@ -45,15 +45,10 @@ inline constexpr PerCell kMomentum{104, 129};
 //   (grad_v_at: n raw differences averaged, then h^-1: 2, 5 or 9 flops for n = 1, 2, 4;
 //   a Bt average of 4 points 4; the term mul and mul_add 3): 7 + 29 + 29 = 65 (diagonal)
 //   or 18 + 18 + 29 = 65 (edge), + 2 adds; uc - adv 1.  Diagonal 213 + 2 + 65 + 2 + 1 = 283,
-//   edge 289.
-//   total 216 + 3 x 283 + 3 x 289 = 1932 flops.  The rates only, as for the momentum.
-inline constexpr PerCell kTransport{136, 1932};
-
-// apply_tendency (integrator.cpp), the Euler update of one field: reads q and the rate r,
-//   writes q + dt r over r: 24 B, 2 flops.  A step runs it on v* (3 components) and on
-//   phi_new and B_new (7 fields).
-inline constexpr PerCell kEulerUpdate{24, 2};
-inline constexpr int kEulerUpdatesPerStep = 3 + 7;
+//   edge 289.  Each of the seven fields' Euler update q + dt rate (q is its own stencil's
+//   centre) 2.
+//   total 216 + 3 x 283 + 3 x 289 + 7 x 2 = 1946 flops.
+inline constexpr PerCell kTransport{136, 1946};
 
 // add_stretching (Crank-Nicolson, once per step): the stretching part of the above on base:
 //   reads u, v, w, Bt (6), base (6), writes out (6): 21 x 8 = 168 B; per component

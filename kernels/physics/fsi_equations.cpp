@@ -93,11 +93,14 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
 }
 
 // Sets out[C] to body(C, i, j, k) on the faces of the three components in `box` in one
-// loop, and out[Y] to zero on the wall faces of v (global j = 0 and j = NY).  The rows of the
-// fields a face reads serve all three components while they are in cache (component by
-// component, each pass brought them from memory again).  C is a std::integral_constant.
-template <class Body>
-void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box& box, const Body& body) {
+// loop, and out[Y] to wall(i, j, k) on the wall faces of v (global j = 0 and j = NY; the
+// default: zero).  The rows of the fields a face reads serve all three components while
+// they are in cache (component by component, each pass brought them from memory again).
+// C is a std::integral_constant.
+inline double zero_at(int, int, int) { return 0.0; }
+template <class Body, class Wall = decltype(&zero_at)>
+void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box& box, const Body& body,
+                         const Wall& wall_value = &zero_at) {
   using CX = std::integral_constant<int, X>;
   using CY = std::integral_constant<int, Y>;
   using CZ = std::integral_constant<int, Z>;
@@ -107,7 +110,7 @@ void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box
     if (wall) {
       for_box(b, [&](int i, int j, int k) {
         o0(i, j, k) = body(CX{}, i, j, k);
-        o1(i, j, k) = 0.0;
+        o1(i, j, k) = wall_value(i, j, k);
         o2(i, j, k) = body(CZ{}, i, j, k);
       });
     } else {
@@ -181,11 +184,18 @@ void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::arra
 }
 
 void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
-                       std::array<Field, 3>& dvdt, const Box& faces) {
+                       std::array<Field, 3>& dvdt, const Box& faces, const RateOutput& out) {
   const Inv inv(s.domain());
   const double inv_rho = 1.0 / ph.rho, force = ph.force * inv_rho;
-  faces_of_components(s, dvdt, faces, [&](auto c, int i, int j, int k) {
-    return momentum_rate<decltype(c)::value>(s, inv, tau, inv_rho, force, i, j, k);
+  with_store(out, [&](const auto& store) {
+    const Field& v = s.vel(Y);
+    faces_of_components(
+        s, dvdt, faces,
+        [&](auto c, int i, int j, int k) {
+          constexpr int C = decltype(c)::value;
+          return store(s.vel(C), i, j, k, momentum_rate<C>(s, inv, tau, inv_rho, force, i, j, k));
+        },
+        [&](int i, int j, int k) { return store(v, i, j, k, 0.0); });
   });
 }
 

@@ -7,6 +7,7 @@
 #include <array>
 
 #include "fsi_state.hpp"
+#include "rate_output.hpp"
 
 namespace efsi {
 
@@ -40,21 +41,22 @@ KernelBoxes interior_boxes(const Int3& n, const CurrentSides& current = {});
 void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 6>& tau,
                     const Box& centres, const Box& edges);
 
-// The tendencies: each kernel computes a right-hand side d q / dt, and the integrator
-// (time layer) applies it.
+// The tendencies: each kernel computes a right-hand side d q / dt and writes it, or the
+// explicit Euler update q + dt dq/dt of the integrator's stages (`out`, rate_output.hpp).
 
 // dv/dt = (-grad p - rho v.grad v + div tau) / rho + f e_x on the faces of `faces` (zero on
 // the wall faces of v, which stay at rest). Advection in the skew-symmetric form, which
 // conserves kinetic energy for any velocity field.
 void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
-                       std::array<Field, 3>& dvdt, const Box& faces);
+                       std::array<Field, 3>& dvdt, const Box& faces, const RateOutput& out = {});
 
 // dphi/dt = -v.grad phi; dBt/dt = -v.grad Bt + L.Bt + Bt.L^T, with the WENO5 upwind
 // derivative, on `cells` (extended to the owned top wall face for the components staggered
-// in y: owned_extent).  With solid_cutoff > 0 (the solid cut-off, solid_cutoff.hpp), a line
-// of a Bt component that the cut-off resets whole after the update may be left unwritten.
+// in y: owned_extent).  With solid_cutoff > 0 (the solid cut-off, solid_cutoff.hpp), the
+// Euler update comes out with the cut-off applied (reset_solid_debris, line by line); the
+// rates are left unwritten on the parts of a line that the cut-off would reset.
 void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
-                        double solid_cutoff = 0.0);
+                        double solid_cutoff = 0.0, const RateOutput& out = {});
 
 // `cells` extended to q's owned top wall face when q is staggered in y (field.hpp).
 Box owned_extent(const Field& q, const Box& cells);

@@ -6,9 +6,6 @@
 // particles and the walls (docs/numerics.md, "Solid cut-off", has the figures).
 #include "solid_cutoff.hpp"
 
-#include <bit>
-#include <cstdint>
-
 #include "box_loops.hpp"
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
@@ -17,32 +14,14 @@
 namespace efsi {
 namespace {
 
-// x where `mask` is all ones, y where it is zero: a select GCC vectorises with the square
-// root computed unconditionally (a conditional square root is control flow it will not
-// if-convert, and the loop stays scalar).
-inline double pick(std::uint64_t mask, double x, double y) {
-  return std::bit_cast<double>((std::bit_cast<std::uint64_t>(x) & mask) | (std::bit_cast<std::uint64_t>(y) & ~mask));
-}
-
-// The three diagonal components together: one square root per centre serves all three.
 void reset_normal(const Field& phi, const Field& phi_new, std::array<Field, 6>& b, double cutoff, const Box& cells) {
   Field &b0 = b[0], &b1 = b[1], &b2 = b[2];
-  for_box(cells, [&](int i, int j, int k) {
-    const std::uint64_t debris = solid_debris<Stagger::cell>(phi, cutoff, i, j, k) ? ~std::uint64_t{0} : 0;
-    const double unstrained = sqrt_phi(phi_new(i, j, k));
-    b0(i, j, k) = pick(debris, unstrained, b0(i, j, k));
-    b1(i, j, k) = pick(debris, unstrained, b1(i, j, k));
-    b2(i, j, k) = pick(debris, unstrained, b2(i, j, k));
-  });
+  for_box(cells, [&](int i, int j, int k) { reset_normal_at(phi, phi_new, b0, b1, b2, cutoff, i, j, k); });
 }
 
 template <int A, int B>
 void reset_shear(const Field& phi, Field& b, double cutoff, const Box& cells) {
-  constexpr Stagger T = tensor_location(A, B);
-  for_box(owned_extent(b, cells), [&](int i, int j, int k) {
-    const double old = b(i, j, k);
-    b(i, j, k) = solid_debris<T>(phi, cutoff, i, j, k) ? 0.0 : old;
-  });
+  for_box(owned_extent(b, cells), [&](int i, int j, int k) { reset_shear_at<A, B>(phi, b, cutoff, i, j, k); });
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include "constitutive.hpp"
 #include "fsi_equations.hpp"
 #include "mul_add.hpp"
+#include "rate_output.hpp"
 #include "solid_cutoff.hpp"
 #include "weno5.hpp"
 
@@ -56,34 +57,37 @@ inline void advection_line(const FieldSet& s, const Inv& inv, const Field& q, co
   (along(l, [&](int t, int i, int j, int k) { adv[t] += weno_advection<T, M>(s, inv, q, i, j, k); }), ...);
 }
 
-// dBt_AB/dt = (L.Bt + Bt.L^T)_AB - v.grad Bt_AB on line l (adv, uc: 2 l.n).  On a wall face
-// row v = 0 exactly, and the y stencil would reach past the ghosts.
-template <int A, int B, class Ln>
-inline void component_line(const FieldSet& s, const Inv& inv, Field& out, const Ln& l, bool wall, double* adv) {
+// dBt_AB/dt = (L.Bt + Bt.L^T)_AB - v.grad Bt_AB on line l (adv, uc: 2 l.n), written through
+// `store` (rate_output.hpp).  On a wall face row v = 0 exactly, and the y stencil would
+// reach past the ghosts.
+template <int A, int B, class Store, class Ln>
+inline void component_line(const FieldSet& s, const Inv& inv, const Store& store, Field& out, const Ln& l, bool wall,
+                           double* adv) {
   constexpr Stagger T = tensor_location(A, B);
   const Field& q = s.B(A, B);
   double* uc = adv + l.n;
   if (wall) advection_line<T, X, Z>(s, inv, q, l, adv);
   else advection_line<T, X, Z, Y>(s, inv, q, l, adv);
   stretching_line<A, B>(s, inv, l, uc);
-  along(l, [&](int t, int i, int j, int k) { out(i, j, k) = uc[t] - adv[t]; });
+  along(l, [&](int t, int i, int j, int k) { out(i, j, k) = store(q, i, j, k, uc[t] - adv[t]); });
 }
 
-template <class Ln>
-inline void phi_line(const FieldSet& s, const Inv& inv, Field& dphidt, const Ln& l, double* adv) {
-  advection_line<Stagger::cell, X, Y, Z>(s, inv, s.phi(), l, adv);
-  along(l, [&](int t, int i, int j, int k) { dphidt(i, j, k) = -adv[t]; });
+template <class Store, class Ln>
+inline void phi_line(const FieldSet& s, const Inv& inv, const Store& store, Field& dphidt, const Ln& l, double* adv) {
+  const Field& phi = s.phi();
+  advection_line<Stagger::cell, X, Y, Z>(s, inv, phi, l, adv);
+  along(l, [&](int t, int i, int j, int k) { dphidt(i, j, k) = store(phi, i, j, k, -adv[t]); });
 }
 
-template <int A, int B>
-void transport_component(const FieldSet& s, Field& out, const Box& cells) {
+template <int A, int B, class Store>
+void transport_component(const FieldSet& s, const Store& store, Field& out, const Box& cells) {
   const Inv inv(s.domain());
   constexpr Stagger T = tensor_location(A, B);
   // The top wall face of a field staggered in y is owned (see field.hpp).
   const Box box = owned_extent(s.B(A, B), cells);
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   auto pieces = [&](const Box& b, bool wall) {
-    for_lines<2>(b, [&](const auto& l, double* adv) { component_line<A, B>(s, inv, out, l, wall, adv); });
+    for_lines<2>(b, [&](const auto& l, double* adv) { component_line<A, B>(s, inv, store, out, l, wall, adv); });
   };
   if constexpr (is_staggered(T, Y)) split_wall_rows(box, wall_lo, wall_hi, pieces);
   else pieces(box, false);
@@ -135,9 +139,10 @@ inline void stretched_normal_line(const FieldSet& s, const Inv& inv, double two_
   normal(std::integral_constant<int, 2>{});
 }
 
-void phi_transport(const FieldSet& s, Field& dphidt, const Box& cells) {
+template <class Store>
+void phi_transport(const FieldSet& s, const Store& store, Field& dphidt, const Box& cells) {
   const Inv inv(s.domain());
-  for_lines<1>(cells, [&](const auto& l, double* adv) { phi_line(s, inv, dphidt, l, adv); });
+  for_lines<1>(cells, [&](const auto& l, double* adv) { phi_line(s, inv, store, dphidt, l, adv); });
 }
 
 // The part of line l from its first to its last point whose Bt component at location T the
@@ -158,19 +163,33 @@ Ln kept_part(const Field& phi, double cutoff, const Ln& l) {
   return part;
 }
 
-}  // namespace
+// The solid cut-off (solid_cutoff.hpp) on line l of the advanced phi and Bt, once the line
+// of all seven is written: the same selects as reset_solid_debris, while the line is in
+// cache.
+template <class Ln>
+void reset_line(const Field& phi, const Field& phi_new, std::array<Field, 6>& b, double cutoff, const Ln& l) {
+  Field &b0 = b[0], &b1 = b[1], &b2 = b[2], &b3 = b[3], &b4 = b[4], &b5 = b[5];
+  along(l, [&](int, int i, int j, int k) { reset_normal_at(phi, phi_new, b0, b1, b2, cutoff, i, j, k); });
+  along(l, [&](int, int i, int j, int k) { reset_shear_at<0, 1>(phi, b3, cutoff, i, j, k); });
+  along(l, [&](int, int i, int j, int k) { reset_shear_at<0, 2>(phi, b4, cutoff, i, j, k); });
+  along(l, [&](int, int i, int j, int k) { reset_shear_at<1, 2>(phi, b5, cutoff, i, j, k); });
+}
 
-void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
-                        double solid_cutoff) {
-  if (cells.empty()) return;
+template <class Store>
+void transport(const FieldSet& s, const Store& store, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
+               double solid_cutoff) {
+  // The cut-off applies to advanced values, not to rates.
+  constexpr bool advances = std::is_same_v<Store, StoreEuler>;
+  const bool cut = advances && solid_cutoff > 0.0;
   if (lines_along_y(cells)) {  // a thin shell box: lines along y cross the wall rows
-    phi_transport(s, dphidt, cells);
-    transport_component<0, 0>(s, dBdt[0], cells);
-    transport_component<1, 1>(s, dBdt[1], cells);
-    transport_component<2, 2>(s, dBdt[2], cells);
-    transport_component<0, 1>(s, dBdt[3], cells);
-    transport_component<0, 2>(s, dBdt[4], cells);
-    transport_component<1, 2>(s, dBdt[5], cells);
+    phi_transport(s, store, dphidt, cells);
+    transport_component<0, 0>(s, store, dBdt[0], cells);
+    transport_component<1, 1>(s, store, dBdt[1], cells);
+    transport_component<2, 2>(s, store, dBdt[2], cells);
+    transport_component<0, 1>(s, store, dBdt[3], cells);
+    transport_component<0, 2>(s, store, dBdt[4], cells);
+    transport_component<1, 2>(s, store, dBdt[5], cells);
+    if (cut) reset_solid_debris(s.phi(), dphidt, dBdt, solid_cutoff, cells);
     return;
   }
   // All seven fields line by line: the rows of v and Bt a line reads serve every field
@@ -178,29 +197,44 @@ void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& 
   const Inv inv(s.domain());
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   // Points of a Bt component that the solid cut-off resets after the update
-  // (reset_solid_debris) need no tendency: it is never used there.  Each component runs on
+  // (reset_line) need no tendency: it is never used there.  Each component runs on
   // the part of the line between its first and last kept point (none: skipped), so the
   // state is bitwise the same and the debris far from the particles costs nothing.
   const Field& phi = s.phi();
   for_lines<2>(cells, [&](const auto& l, double* adv) {
     // Lines run along x here: a line is one row j.
     const bool wall = l.j == wall_lo || l.j == wall_hi;
-    phi_line(s, inv, dphidt, l, adv);
+    phi_line(s, inv, store, dphidt, l, adv);
     if (const auto c = kept_part<Stagger::cell>(phi, solid_cutoff, l); c.n > 0) {
-      component_line<0, 0>(s, inv, dBdt[0], c, false, adv);
-      component_line<1, 1>(s, inv, dBdt[1], c, false, adv);
-      component_line<2, 2>(s, inv, dBdt[2], c, false, adv);
+      component_line<0, 0>(s, inv, store, dBdt[0], c, false, adv);
+      component_line<1, 1>(s, inv, store, dBdt[1], c, false, adv);
+      component_line<2, 2>(s, inv, store, dBdt[2], c, false, adv);
     }
     if (const auto e = kept_part<Stagger::edge_xy>(phi, solid_cutoff, l); e.n > 0)
-      component_line<0, 1>(s, inv, dBdt[3], e, wall, adv);
+      component_line<0, 1>(s, inv, store, dBdt[3], e, wall, adv);
     if (const auto e = kept_part<Stagger::edge_xz>(phi, solid_cutoff, l); e.n > 0)
-      component_line<0, 2>(s, inv, dBdt[4], e, false, adv);
+      component_line<0, 2>(s, inv, store, dBdt[4], e, false, adv);
     if (const auto e = kept_part<Stagger::edge_yz>(phi, solid_cutoff, l); e.n > 0)
-      component_line<1, 2>(s, inv, dBdt[5], e, wall, adv);
+      component_line<1, 2>(s, inv, store, dBdt[5], e, wall, adv);
+    if (cut) reset_line(phi, dphidt, dBdt, solid_cutoff, l);
   });
   // The owned top wall faces of the components staggered in y, beyond `cells`.
-  transport_component<0, 1>(s, dBdt[3], owned_top_face(dBdt[3], cells));
-  transport_component<1, 2>(s, dBdt[5], owned_top_face(dBdt[5], cells));
+  const Box top3 = owned_top_face(dBdt[3], cells), top5 = owned_top_face(dBdt[5], cells);
+  transport_component<0, 1>(s, store, dBdt[3], top3);
+  transport_component<1, 2>(s, store, dBdt[5], top5);
+  if (cut) {
+    Field &b3 = dBdt[3], &b5 = dBdt[5];
+    for_box(top3, [&](int i, int j, int k) { reset_shear_at<0, 1>(phi, b3, solid_cutoff, i, j, k); });
+    for_box(top5, [&](int i, int j, int k) { reset_shear_at<1, 2>(phi, b5, solid_cutoff, i, j, k); });
+  }
+}
+
+}  // namespace
+
+void transport_tendency(const FieldSet& s, Field& dphidt, std::array<Field, 6>& dBdt, const Box& cells,
+                        double solid_cutoff, const RateOutput& out) {
+  if (cells.empty()) return;
+  with_store(out, [&](const auto& store) { transport(s, store, dphidt, dBdt, cells, solid_cutoff); });
 }
 
 void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,

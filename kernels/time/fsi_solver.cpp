@@ -6,8 +6,6 @@
 #include <limits>
 #include <string>
 
-#include "solid_cutoff.hpp"
-
 namespace efsi {
 
 FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
@@ -122,13 +120,11 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   }
   const KernelBoxes in = split ? interior_boxes(n, current) : full;
 
-  tendencies(in);  // stress, dv/dt, dphi/dt and dBt/dt
+  tendencies(in);  // stress; v* = v + dt dv/dt; phi, Bt + dt d/dt and the solid cut-off
   complete(StepExchange::state);
   if (split) shell_stress_and_momentum(full, in);
-  predict(full.momentum);  // v* = v + dt dv/dt
   post(StepExchange::vstar);
   if (split) shell_transport(full, in);
-  advance_solid(full.transport);  // phi, Bt + dt d/dt
   complete(StepExchange::vstar);
   // Its sweeps exchange v* in all 26 directions, the last one included.
   if (cn_) cn_->iterate(state_, work_, config_.physics, config_.dt);
@@ -150,8 +146,8 @@ void FsiSolver::tendencies(const KernelBoxes& b) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
   compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
-  momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum);
-  transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff);
+  momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum, euler());
+  transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff, euler());
 }
 
 void FsiSolver::shell_transport(const KernelBoxes& full, const KernelBoxes& in) {
@@ -159,7 +155,7 @@ void FsiSolver::shell_transport(const KernelBoxes& full, const KernelBoxes& in) 
   const FieldSet s = state_.fields();
   for_each_shell_box(full.transport, in.transport,
                      [&](const Box& b) {
-                       transport_tendency(s, work_.phi_new, work_.B_new, b, config_.physics.solid_cutoff);
+                       transport_tendency(s, work_.phi_new, work_.B_new, b, config_.physics.solid_cutoff, euler());
                      });
 }
 
@@ -172,20 +168,7 @@ void FsiSolver::shell_stress_and_momentum(const KernelBoxes& full, const KernelB
   for_each_shell_box(full.stress_edges, in.stress_edges,
                      [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, Box{}, b); });
   for_each_shell_box(full.momentum, in.momentum,
-                     [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b); });
-}
-
-void FsiSolver::predict(const Box& faces) {
-  RegionTimers::Scope t(&timers_, Region::compute);
-  for (int a = 0; a < 3; ++a) apply_tendency(state_.vel(a), config_.dt, work_.vstar[a], faces);
-}
-
-void FsiSolver::advance_solid(const Box& cells) {
-  RegionTimers::Scope t(&timers_, Region::compute);
-  apply_tendency(state_.phi(), config_.dt, work_.phi_new, cells);
-  for (int c = 0; c < 6; ++c)
-    apply_tendency(state_.B(c), config_.dt, work_.B_new[c], owned_extent(work_.B_new[c], cells));
-  reset_solid_debris(state_.phi(), work_.phi_new, work_.B_new, config_.physics.solid_cutoff, cells);
+                     [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b, euler()); });
 }
 
 void FsiSolver::blend_with_start(const IntegratorStage& stage) {

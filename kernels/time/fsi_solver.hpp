@@ -78,8 +78,8 @@ class FsiSolver final : public Stepper {
   void tendencies(const KernelBoxes& boxes);
   void shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in);
   void shell_transport(const KernelBoxes& full, const KernelBoxes& in);
-  void predict(const Box& faces);
-  void advance_solid(const Box& cells);
+  // Each stage's Euler update, written by the momentum and transport kernels.
+  RateOutput euler() const { return RateOutput::euler_update(config_.dt); }
   double compute_divergence();
   double project();
   void blend_with_start(const IntegratorStage& stage);

@@ -21,15 +21,6 @@ const Integrator& find_integrator(const std::string& name) {
   throw ConfigError("unknown integrator '" + name + "': expected one of " + names);
 }
 
-void apply_tendency(const Field& q, double dt, Field& r, const Box& box) {
-  if (box.empty()) return;
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = box.lo[Z]; k < box.hi[Z]; ++k)
-    for (int j = box.lo[Y]; j < box.hi[Y]; ++j)
-#pragma omp simd
-      for (int i = box.lo[X]; i < box.hi[X]; ++i) r(i, j, k) = q(i, j, k) + dt * r(i, j, k);
-}
-
 void blend(Field& q, const Field& q0, const IntegratorStage& stage) {
   if (stage.alpha == 0.0 && stage.beta == 1.0) return;
   const double a = stage.alpha, b = stage.beta;

@@ -9,7 +9,8 @@
 // stage is a convex combination of Euler sub-steps, so whatever bounds one Euler sub-step
 // (the non-oscillatory WENO5 transport at a small enough time step) bounds the whole
 // step, and a blend of divergence-free velocities stays divergence-free.  A new integrator
-// is one more row of kIntegrators.
+// is one more row of kIntegrators.  The sub-step's updates q + dt dq/dt are written by the
+// momentum and transport kernels themselves (physics/rate_output.hpp).
 #include <string>
 #include <vector>
 
@@ -36,10 +37,6 @@ const std::vector<Integrator>& integrators();
 
 // Throws ConfigError naming `name` and the integrators there are.
 const Integrator& find_integrator(const std::string& name);
-
-// The Euler sub-step's update: r = q + dt r on `box`, where r held dq/dt (in place: the
-// tendency's array becomes the advanced field).
-void apply_tendency(const Field& q, double dt, Field& r, const Box& box);
 
 // The stage's blend: q = alpha q0 + beta q on every owned point of q (the owned top wall
 // face included).  (0, 1) leaves q untouched.
