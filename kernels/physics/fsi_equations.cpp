@@ -97,10 +97,12 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
 // default: zero).  The rows of the fields a face reads serve all three components while
 // they are in cache (component by component, each pass brought them from memory again).
 // C is a std::integral_constant.
-inline double zero_at(int, int, int) { return 0.0; }
-template <class Body, class Wall = decltype(&zero_at)>
+struct ZeroAt {
+  double operator()(int, int, int) const { return 0.0; }
+};
+template <class Body, class Wall = ZeroAt>
 void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box& box, const Body& body,
-                         const Wall& wall_value = &zero_at) {
+                         const Wall& wall_value = {}) {
   using CX = std::integral_constant<int, X>;
   using CY = std::integral_constant<int, Y>;
   using CZ = std::integral_constant<int, Z>;
