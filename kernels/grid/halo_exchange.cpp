@@ -11,12 +11,20 @@ namespace efsi {
 namespace {
 
 // x-face runs are only halo-wide (1 to 3 values): a call to memcpy per run would cost
-// more than the copy itself.
+// more than the copy itself.  The lengths are constants: GCC turns a copy loop of run-time
+// length into a call to memmove, short or not (measured: the x faces of the state exchange
+// on one rank took 0.88 ms of its 1.23, the z faces with the same bytes 0.13).
+template <int L>
+inline void copy_fixed(double* __restrict dst, const double* __restrict src) {
+  for (int i = 0; i < L; ++i) dst[i] = src[i];
+}
 inline void copy_run(double* __restrict dst, const double* __restrict src, int len) {
-  if (len <= 4) {
-    for (int i = 0; i < len; ++i) dst[i] = src[i];
-  } else {
-    std::memcpy(dst, src, sizeof(double) * static_cast<std::size_t>(len));
+  switch (len) {
+    case 1: copy_fixed<1>(dst, src); return;
+    case 2: copy_fixed<2>(dst, src); return;
+    case 3: copy_fixed<3>(dst, src); return;
+    case 4: copy_fixed<4>(dst, src); return;
+    default: std::memcpy(dst, src, sizeof(double) * static_cast<std::size_t>(len));
   }
 }
 
