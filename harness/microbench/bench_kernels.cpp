@@ -252,15 +252,20 @@ void BM_GlobalReduction(benchmark::State& state) {
 }
 
 // One step: the sum of its kernels' counts (kernel_costs.hpp) and halo traffic (StepHalos):
-//   every method: stress + momentum + transport (each with its Euler update) + divergence +
-//   projection; the state
+//   every method: stress + momentum (fused where the step takes them fused) + transport
+//   (each with its Euler update) + divergence + projection; the state
 //   exchange (11 fields, 26 neighbours), the v* exchange and the D* exchange (faces);
 //   + the method's increment as it counts it (MethodSpec::increment_work), with its
 //   exchanges of a cell field's faces;
 //   + nc Crank-Nicolson sweeps when the method has them (each a v* exchange of 26
 //   neighbours and a tau exchange of faces, one more v* exchange at the end).
 PerCell step_cost(const StepCase& m, const Int3& global, const Int3& dims, const StepHalos& h) {
-  PerCell c = bench::kStress + bench::kMomentum + bench::kTransport + bench::kDivergence + bench::kProject;
+  // Stress and momentum fused where no Crank-Nicolson reads tau and the step runs whole (sync,
+  // or async with every neighbour the rank itself); FsiSolver::tendencies.
+  const bool messages = dims[X] * dims[Y] * dims[Z] > 1;
+  const bool fused = m.choice.cn_sweeps == 0 && (m.mode == CommMode::sync || !messages);
+  PerCell c = (fused ? bench::kStressAndMomentum : bench::kStress + bench::kMomentum) + bench::kTransport +
+              bench::kDivergence + bench::kProject;
   c = c + PerCell{h.state + h.vstar_faces + h.cell_faces, 0};
   const IncrementWork inc = m.choice.spec->increment_work(m.choice, global, dims);
   c = c + inc.kernels + PerCell{inc.cell_face_exchanges * h.cell_faces, 0};

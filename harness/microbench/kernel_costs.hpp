@@ -30,6 +30,13 @@ inline constexpr PerCell kStress{144, 73};
 //   v is read for the advection anyway) 2.  29 + 8 + 2 + 4 + 2 = 45, three: 135 flops.
 inline constexpr PerCell kMomentum{104, 135};
 
+// StressAndMomentum (fsi_equations.hpp), the two above fused plane by plane with tau kept
+//   on a ring of planes in cache: solid_root 16 B; reads u, v, w, p, sqrt(phi), Bt11..Bt23
+//   (11 arrays), writes u*, v*, w* (3): 14 x 8 = 112 B; with solid_root 128 B.  Flops as the
+//   two kernels: 73 + 135 = 208 (the edge planes on each thread's first plane are formed
+//   twice: 1 plane in n_z / threads, not counted).
+inline constexpr PerCell kStressAndMomentum{128, 208};
+
 // compute_transport, WENO5 advection of phi and the six Bt components with the
 // upper-convected stretching of Bt (transport_component, weno5.hpp); a fused multiply-add
 // (mul_add) counts 2 flops:

@@ -53,6 +53,31 @@ template <class F>
   }
 }
 
+// for_box's loops on the calling thread alone, for a caller that already is one thread's
+// share of a parallel region.
+template <class F>
+[[gnu::flatten]] void for_box_serial(const Box& b, F&& f) {
+  if (b.empty()) return;
+  if (!lines_along_y(b)) {
+    for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
+      for (int j = b.lo[Y]; j < b.hi[Y]; ++j)
+#pragma omp simd
+        for (int i = b.lo[X]; i < b.hi[X]; ++i) f(i, j, k);
+  } else {
+    for (int k = b.lo[Z]; k < b.hi[Z]; ++k)
+      for (int i = b.lo[X]; i < b.hi[X]; ++i)
+#pragma omp simd
+        for (int j = b.lo[Y]; j < b.hi[Y]; ++j) f(i, j, k);
+  }
+}
+
+// for_box, or for_box_serial when Serial.
+template <bool Serial, class F>
+void for_box_as(const Box& b, F&& f) {
+  if constexpr (Serial) for_box_serial(b, f);
+  else for_box(b, f);
+}
+
 // Calls g(piece, is_wall_row) for the pieces of `b` split at the wall rows j = wall_lo and
 // j = wall_hi, so that no loop carries the wall test.
 template <class G>

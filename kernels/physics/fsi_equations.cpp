@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <type_traits>
 #include <utility>
+
+#include <omp.h>
 
 #include "box_loops.hpp"
 #include "constitutive.hpp"
@@ -23,13 +27,13 @@ inline double stress_at(const FieldSet& s, const Inv& inv, double two_mu, double
 // The three components at one location in one loop: the rows of v, sqrt(phi) and Bt a
 // point reads serve all three while they are in cache (component by component, each pass
 // brought them from memory again).
-template <int A0, int B0, int A1, int B1, int A2, int B2>
-void stress_components(const FieldSet& s, const Physics& ph, const Field& root, Field& t0, Field& t1, Field& t2,
+template <int A0, int B0, int A1, int B1, int A2, int B2, bool Serial = false, class Out>
+void stress_components(const FieldSet& s, const Physics& ph, const Field& root, Out& t0, Out& t1, Out& t2,
                        const Box& box) {
   const Inv inv(s.domain());
   const double two_mu = 2.0 * ph.mu, G = ph.G;
   const auto r = [&root](int a, int b, int c) { return root(a, b, c); };
-  for_box(box, [&](int i, int j, int k) {
+  for_box_as<Serial>(box, [&](int i, int j, int k) {
     t0(i, j, k) = stress_at<A0, B0>(s, inv, two_mu, G, r, i, j, k);
     t1(i, j, k) = stress_at<A1, B1>(s, inv, two_mu, G, r, i, j, k);
     t2(i, j, k) = stress_at<A2, B2>(s, inv, two_mu, G, r, i, j, k);
@@ -82,10 +86,10 @@ inline double advection_term(const FieldSet& s, const Inv& inv, int i, int j, in
   return 0.5 * inv.h[A] * (up * uc(i + ax, j + ay, k + az) - lo * uc(i - ax, j - ay, k - az));
 }
 
-template <int C, int A>
-inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv& inv, int i, int j, int k) {
+template <int C, int A, class Tau>
+inline double stress_divergence_term(const Tau& tau, const Inv& inv, int i, int j, int k) {
   constexpr int ax = unit(A, X), ay = unit(A, Y), az = unit(A, Z);
-  const Field& t = tau[tensor_index(C, A)];
+  const auto& t = tau[tensor_index(C, A)];
   if constexpr (A == C)  // centres i - 1 and i around the face i
     return (t(i, j, k) - t(i - ax, j - ay, k - az)) * inv.h[A];
   else  // edges i and i + 1 along A
@@ -100,7 +104,7 @@ inline double stress_divergence_term(const std::array<Field, 6>& tau, const Inv&
 struct ZeroAt {
   double operator()(int, int, int) const { return 0.0; }
 };
-template <class Body, class Wall = ZeroAt>
+template <bool Serial = false, class Body, class Wall = ZeroAt>
 void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box& box, const Body& body,
                          const Wall& wall_value = {}) {
   using CX = std::integral_constant<int, X>;
@@ -110,13 +114,13 @@ void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box
   const int wall_lo = s.decomp().wall_row_below(), wall_hi = s.decomp().wall_row_above();
   split_wall_rows(box, wall_lo, wall_hi, [&](const Box& b, bool wall) {
     if (wall) {
-      for_box(b, [&](int i, int j, int k) {
+      for_box_as<Serial>(b, [&](int i, int j, int k) {
         o0(i, j, k) = body(CX{}, i, j, k);
         o1(i, j, k) = wall_value(i, j, k);
         o2(i, j, k) = body(CZ{}, i, j, k);
       });
     } else {
-      for_box(b, [&](int i, int j, int k) {
+      for_box_as<Serial>(b, [&](int i, int j, int k) {
         o0(i, j, k) = body(CX{}, i, j, k);
         o1(i, j, k) = body(CY{}, i, j, k);
         o2(i, j, k) = body(CZ{}, i, j, k);
@@ -125,16 +129,16 @@ void faces_of_components(const FieldSet& s, std::array<Field, 3>& out, const Box
   });
 }
 
-template <int C>
-inline double divergence_of(const std::array<Field, 6>& tau, const Inv& inv, int i, int j, int k) {
+template <int C, class Tau>
+inline double divergence_of(const Tau& tau, const Inv& inv, int i, int j, int k) {
   return stress_divergence_term<C, X>(tau, inv, i, j, k) + stress_divergence_term<C, Y>(tau, inv, i, j, k) +
          stress_divergence_term<C, Z>(tau, inv, i, j, k);
 }
 
 // dv_C/dt at the face (i, j, k) of component C.
-template <int C>
-inline double momentum_rate(const FieldSet& s, const Inv& inv, const std::array<Field, 6>& tau, double inv_rho,
-                            double force, int i, int j, int k) {
+template <int C, class Tau>
+inline double momentum_rate(const FieldSet& s, const Inv& inv, const Tau& tau, double inv_rho, double force, int i,
+                            int j, int k) {
   constexpr int cx = unit(C, X), cy = unit(C, Y), cz = unit(C, Z);
   const Field& p = s.p();
   const double adv = advection_term<C, X>(s, inv, i, j, k) + advection_term<C, Y>(s, inv, i, j, k) +
@@ -185,13 +189,16 @@ void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::arra
   stress_components<0, 1, 0, 2, 1, 2>(s, ph, root, tau[3], tau[4], tau[5], edges);
 }
 
-void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
-                       std::array<Field, 3>& dvdt, const Box& faces, const RateOutput& out) {
+// The momentum on the faces of `faces` from any store of tau (Fields, or the planes of a
+// TauRing): one definition for both.
+template <bool Serial, class Tau>
+void momentum_from(const FieldSet& s, const Physics& ph, const Tau& tau, std::array<Field, 3>& dvdt, const Box& faces,
+                   const RateOutput& out) {
   const Inv inv(s.domain());
   const double inv_rho = 1.0 / ph.rho, force = ph.force * inv_rho;
   with_store(out, [&](const auto& store) {
     const Field& v = s.vel(Y);
-    faces_of_components(
+    faces_of_components<Serial>(
         s, dvdt, faces,
         [&](auto c, int i, int j, int k) {
           constexpr int C = decltype(c)::value;
@@ -199,6 +206,66 @@ void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Fi
         },
         [&](int i, int j, int k) { return store(v, i, j, k, 0.0); });
   });
+}
+
+void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
+                       std::array<Field, 3>& dvdt, const Box& faces, const RateOutput& out) {
+  momentum_from<false>(s, ph, tau, dvdt, faces, out);
+}
+
+TauRing::TauRing(const std::array<Field, 6>& layout) {
+  std::size_t total = 0;
+  for (const Field& f : layout) total += 3 * static_cast<std::size_t>(f.stride_z());
+  data_.reset(static_cast<double*>(std::aligned_alloc(64, ((total * sizeof(double) + 63) / 64) * 64)));
+  if (!data_) throw std::bad_alloc();
+  std::fill(data_.get(), data_.get() + total, 0.0);
+  double* p = data_.get();
+  for (int c = 0; c < 6; ++c) {
+    const Field& f = layout[c];
+    // Field's layout of one plane: the planes' own origin is the field's less its z halo.
+    planes_[c] = Planes{p + (f.index(0, 0, 0) - f.stride_z() * f.halo()), f.stride_y(), f.stride_z()};
+    p += 3 * f.stride_z();
+  }
+}
+
+void TauRing::Free::operator()(double* p) const noexcept { std::free(p); }
+
+StressAndMomentum::StressAndMomentum(const std::array<Field, 6>& tau_layout) {
+  const int threads = std::max(1, omp_get_max_threads());
+  rings_.reserve(threads);
+  for (int t = 0; t < threads; ++t) rings_.emplace_back(tau_layout);
+}
+
+void StressAndMomentum::run(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 3>& dvdt,
+                            const RateOutput& out) {
+  const Int3 n = s.decomp().local();
+  const KernelBoxes full = full_boxes(n);
+  solid_root(s.phi(), root, full.stress_centres, full.stress_edges);
+  auto plane = [](Box b, int k) {
+    b.lo[Z] = k;
+    b.hi[Z] = k + 1;
+    return b;
+  };
+#pragma omp parallel num_threads(static_cast<int>(rings_.size()))
+  {
+    TauRing& ring = rings_[omp_get_thread_num()];
+    const int nt = omp_get_num_threads(), t = omp_get_thread_num();
+    const int k0 = static_cast<int>(static_cast<long>(n[Z]) * t / nt);
+    const int k1 = static_cast<int>(static_cast<long>(n[Z]) * (t + 1) / nt);
+    // The momentum of plane k reads the centres k - 1 and k and the edges k and k + 1.
+    auto stress_planes = [&](int centres, int edges) {
+      stress_components<0, 0, 1, 1, 2, 2, true>(s, ph, root, ring[0], ring[1], ring[2],
+                                                plane(full.stress_centres, centres));
+      stress_components<0, 1, 0, 2, 1, 2, true>(s, ph, root, ring[3], ring[4], ring[5], plane(full.stress_edges, edges));
+    };
+    if (k0 < k1) {
+      stress_planes(k0 - 1, k0);
+      for (int k = k0; k < k1; ++k) {
+        stress_planes(k, k + 1);
+        momentum_from<true>(s, ph, ring, dvdt, plane(full.momentum, k), out);
+      }
+    }
+  }
 }
 
 Box owned_extent(const Field& q, const Box& cells) {

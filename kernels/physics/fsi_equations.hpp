@@ -5,6 +5,9 @@
 // output points, so a caller can do the interior while a halo exchange is in flight
 // and the rest after it (the result is the same arithmetic either way).
 #include <array>
+#include <cstddef>
+#include <memory>
+#include <vector>
 
 #include "fsi_state.hpp"
 #include "rate_output.hpp"
@@ -49,6 +52,44 @@ void compute_stress(const FieldSet& s, const Physics& ph, Field& root, std::arra
 // conserves kinetic energy for any velocity field.
 void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Field, 6>& tau,
                        std::array<Field, 3>& dvdt, const Box& faces, const RateOutput& out = {});
+
+// The six stress components on a ring of three z-planes, each plane laid out as its Field's:
+// ring[c](i, j, k) is plane k mod 3 of component c.  What the fused stress and momentum
+// keep of tau instead of the whole arrays.
+class TauRing {
+ public:
+  struct Planes {
+    double* base;
+    std::ptrdiff_t sy, sz;
+    double& operator()(int i, int j, int k) const { return base[i + sy * j + sz * ((k + 3) % 3)]; }
+  };
+  explicit TauRing(const std::array<Field, 6>& layout);
+  const Planes& operator[](int c) const { return planes_[c]; }
+  Planes& operator[](int c) { return planes_[c]; }
+
+ private:
+  struct Free {
+    void operator()(double* p) const noexcept;
+  };
+  std::unique_ptr<double[], Free> data_;
+  std::array<Planes, 6> planes_{};
+};
+
+// compute_stress then momentum_tendency over the whole block (full_boxes), fused plane by
+// plane in z: each thread takes a range of planes and keeps tau on its own TauRing, so tau
+// never goes to memory (written, read back: 144 B a cell), and the velocity a plane reads
+// serves both while it is in cache.  The momentum comes out bitwise as from the two
+// kernels; `root` is filled as compute_stress fills it, but the tau arrays are not, so a
+// caller that reads them later (Crank-Nicolson) or splits the block into interior and
+// shell (async) uses the two kernels instead.
+class StressAndMomentum {
+ public:
+  explicit StressAndMomentum(const std::array<Field, 6>& tau_layout);
+  void run(const FieldSet& s, const Physics& ph, Field& root, std::array<Field, 3>& dvdt, const RateOutput& out);
+
+ private:
+  std::vector<TauRing> rings_;  // one per thread
+};
 
 // dphi/dt = -v.grad phi; dBt/dt = -v.grad Bt + L.Bt + Bt.L^T, with the WENO5 upwind
 // derivative, on `cells` (extended to the owned top wall face for the components staggered

@@ -28,6 +28,7 @@ FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, cons
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side) current_sides_[a][side] = state_halo.face_current_at_begin(a, 2 * side - 1);
   if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_);
+  else fused_ = std::make_unique<StressAndMomentum>(work_.tau);  // Crank-Nicolson reads tau whole
   if (integrator_.stages.size() > 1) start_ = std::make_unique<FsiState>(decomp, domain);
   pressure_->attach(decomp, domain, work_, timers_);
 }
@@ -120,7 +121,7 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   }
   const KernelBoxes in = split ? interior_boxes(n, current) : full;
 
-  tendencies(in);  // stress; v* = v + dt dv/dt; phi, Bt + dt d/dt and the solid cut-off
+  tendencies(in, !split);  // stress; v* = v + dt dv/dt; phi, Bt + dt d/dt and the solid cut-off
   complete(StepExchange::state);
   if (split) shell_stress_and_momentum(full, in);
   post(StepExchange::vstar);
@@ -142,11 +143,15 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   return {umax, divmax};
 }
 
-void FsiSolver::tendencies(const KernelBoxes& b) {
+void FsiSolver::tendencies(const KernelBoxes& b, bool whole) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
-  compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
-  momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum, euler());
+  if (whole && fused_) {
+    fused_->run(s, config_.physics, work_.root_phi, work_.vstar, euler());
+  } else {
+    compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
+    momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum, euler());
+  }
   transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff, euler());
 }
 

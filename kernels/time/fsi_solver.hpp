@@ -75,7 +75,8 @@ class FsiSolver final : public Stepper {
     double umax, divmax;  // local max |velocity| and |D*| (inf when non-finite)
   };
   SubstepResult euler_substep(const IntegratorStage& stage);
-  void tendencies(const KernelBoxes& boxes);
+  // whole: the state's ghosts are all current (no interior and shell).
+  void tendencies(const KernelBoxes& boxes, bool whole);
   void shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in);
   void shell_transport(const KernelBoxes& full, const KernelBoxes& in);
   // Each stage's Euler update, written by the momentum and transport kernels.
@@ -102,6 +103,7 @@ class FsiSolver final : public Stepper {
   std::array<bool, kStepExchanges.size()> pending_{};
   CurrentSides current_sides_{};  // of the state exchange, for interior_boxes
   std::unique_ptr<CrankNicolsonStress> cn_;
+  std::unique_ptr<StressAndMomentum> fused_;  // without Crank-Nicolson
   std::unique_ptr<FsiState> start_;  // u^n, for integrators of more than one stage
   long steps_ = 0;
   double time_ = 0.0;
