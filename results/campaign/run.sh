@@ -8,6 +8,8 @@ cd "$(dirname "$0")/../.."
 export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
 py=/usr/bin/python3
 out=results/campaign
+# The drivers append their rows: a retake starts from empty files, not on top of the last take.
+rm -f "$out/weak.csv" "$out/strong.csv" "$out/accuracy/accuracy.csv"
 "$py" harness/campaign.py local --sweep local-weak --repeats 3 --csv "$out/weak.csv"
 "$py" harness/campaign.py local --sweep local-strong --repeats 2 --csv "$out/strong.csv"
 OMP_NUM_THREADS=1 mpirun -n 2 --bind-to core build/bin/accuracy --cells 64 --t-end 4 --every 20 \
