@@ -12,7 +12,6 @@ namespace efsi {
 struct RateOutput {
   bool euler = false;  // false: the rate
   double dt = 0.0;
-  static RateOutput rate() { return {}; }
   static RateOutput euler_update(double dt) { return {true, dt}; }
 };
 

@@ -19,20 +19,24 @@ void reset_normal(const Field& phi, const Field& phi_new, std::array<Field, 6>& 
   for_box(cells, [&](int i, int j, int k) { reset_normal_at(phi, phi_new, b0, b1, b2, cutoff, i, j, k); });
 }
 
+}  // namespace
+
 template <int A, int B>
-void reset_shear(const Field& phi, Field& b, double cutoff, const Box& cells) {
+void reset_shear_debris(const Field& phi, Field& b, double cutoff, const Box& cells) {
+  if (!(cutoff > 0.0)) return;
   for_box(owned_extent(b, cells), [&](int i, int j, int k) { reset_shear_at<A, B>(phi, b, cutoff, i, j, k); });
 }
-
-}  // namespace
+template void reset_shear_debris<0, 1>(const Field&, Field&, double, const Box&);
+template void reset_shear_debris<0, 2>(const Field&, Field&, double, const Box&);
+template void reset_shear_debris<1, 2>(const Field&, Field&, double, const Box&);
 
 void reset_solid_debris(const Field& phi, const Field& phi_new, std::array<Field, 6>& B_new, double cutoff,
                         const Box& cells) {
   if (!(cutoff > 0.0)) return;
   reset_normal(phi, phi_new, B_new, cutoff, cells);
-  reset_shear<0, 1>(phi, B_new[3], cutoff, cells);
-  reset_shear<0, 2>(phi, B_new[4], cutoff, cells);
-  reset_shear<1, 2>(phi, B_new[5], cutoff, cells);
+  reset_shear_debris<0, 1>(phi, B_new[3], cutoff, cells);
+  reset_shear_debris<0, 2>(phi, B_new[4], cutoff, cells);
+  reset_shear_debris<1, 2>(phi, B_new[5], cutoff, cells);
 }
 
 }  // namespace efsi

@@ -51,5 +51,8 @@ inline void reset_shear_at(const Field& phi, Field& b, double cutoff, int i, int
 // components staggered in y.  cutoff <= 0 changes nothing.
 void reset_solid_debris(const Field& phi, const Field& phi_new, std::array<Field, 6>& B_new, double cutoff,
                         const Box& cells);
+// The same for the one shear component b = Bt_AB (A < B) of B_new.
+template <int A, int B>
+void reset_shear_debris(const Field& phi, Field& b, double cutoff, const Box& cells);
 
 }  // namespace efsi

@@ -223,9 +223,8 @@ void transport(const FieldSet& s, const Store& store, Field& dphidt, std::array<
   transport_component<0, 1>(s, store, dBdt[3], top3);
   transport_component<1, 2>(s, store, dBdt[5], top5);
   if (cut) {
-    Field &b3 = dBdt[3], &b5 = dBdt[5];
-    for_box(top3, [&](int i, int j, int k) { reset_shear_at<0, 1>(phi, b3, solid_cutoff, i, j, k); });
-    for_box(top5, [&](int i, int j, int k) { reset_shear_at<1, 2>(phi, b5, solid_cutoff, i, j, k); });
+    reset_shear_debris<0, 1>(phi, dBdt[3], solid_cutoff, top3);
+    reset_shear_debris<1, 2>(phi, dBdt[5], solid_cutoff, top5);
   }
 }
 
