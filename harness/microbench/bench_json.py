@@ -38,7 +38,7 @@ def summary(doc):
     """Per benchmark: min_us and cpu_min_us (least over all repetitions: wall time, CPU
     time; kernel_timing.hpp), median_us (median over repetitions of each repetition's median
     iteration), and the median over repetitions of the counted GBps, GFLOPs,
-    roofline_fraction, the compute probe's GFLOP/s and roof_fraction.  Times are information: nothing gates on them."""
+    roofline_fraction, the compute and WENO5 probes' GFLOP/s and roof_fraction.  Times are information: nothing gates on them."""
     out = {}
     for name, rows in runs_by_benchmark(doc).items():
         med = lambda key: statistics.median(r.get(key, 0.0) for r in rows)
@@ -50,10 +50,12 @@ def summary(doc):
             "GFLOPs": med("GFLOPs"),
             "roofline_fraction": med("roofline_fraction"),
             "compute_GFLOPs": med("compute_GFLOPs"),
+            "weno_GFLOPs": med("weno_GFLOPs"),
             "roof_fraction": med("roof_fraction"),
             "triad_GBps": med("triad_GBps"),
             "bytes_per_cell": rows[0].get("bytes_per_cell", 0.0),
             "flops_per_cell": rows[0].get("flops_per_cell", 0.0),
+            "weno_flops_per_cell": rows[0].get("weno_flops_per_cell", 0.0),
             "repetitions": len(rows),
         }
     return out

@@ -57,6 +57,13 @@ inline constexpr PerCell kStressAndMomentum{128, 208};
 //   total 216 + 3 x 283 + 3 x 289 + 7 x 2 = 1946 flops.
 inline constexpr PerCell kTransport{136, 1946};
 
+// Of those, the weno5_advection calls (the raw differences 5, the scheme 62, |v| h^-1/6 and
+// its product 2: 69 flops each), 3 for phi and for each of the six Bt components: the part
+// measured against the WENO5 roof (compute_probe.hpp); the averages, stretching and updates
+// are measured against the multiply-add peak.
+inline constexpr double kWenoAdvectionFlops = 69;
+inline constexpr double kTransportWenoFlops = 21 * kWenoAdvectionFlops;
+
 // add_stretching (Crank-Nicolson, once per step): the stretching part of the above on base:
 //   reads u, v, w, Bt (6), base (6), writes out (6): 21 x 8 = 168 B; per component
 //   65 + 2 adds + base + dt uc (2) = 69, six: 414 flops.

@@ -10,10 +10,16 @@
 //   min_us, median_us   fastest and median iteration, wall time (Google Benchmark's own
 //                       column is the mean, which one preempted iteration drags)
 //   cpu_min_us          least CPU time of an iteration (kernel_clock.hpp)
-//   bytes_per_cell, flops_per_cell   the kernel's counted traffic and work (kernel_costs.hpp)
+//   bytes_per_cell, flops_per_cell, weno_flops_per_cell   the kernel's counted traffic and
+//                       work (kernel_costs.hpp), and the part of the work in WENO5 terms
 //   GBps, GFLOPs        counted bytes and flops of one rank / median time (1e9 per second)
 //   triad_us, triad_GBps  the probe's fastest pass and one rank's triad bandwidth
 //   roofline_fraction   GBps / triad_GBps (above 1 for kernels whose data stay in cache)
+//   compute_GFLOPs, compute_fraction   the multiply-add peak (compute_probe.hpp), GFLOPs / it
+//   weno_GFLOPs         the WENO5 advection's own roof (compute_probe.hpp)
+//   roof_fraction       the kernel's own roof time / its median time: the roof time is the
+//                       larger of bytes / triad bandwidth and the compute time, the WENO5
+//                       flops at weno_GFLOPs and the rest at compute_GFLOPs
 //
 // Counted (EFSI_COUNT=1 in the environment, under callgrind; the CI gate,
 // ci/microbench_gate.sh): one warm-up of `calls` calls with instrumentation on, then the
@@ -42,6 +48,7 @@ struct KernelCost {
   double cells = 1;           // owned cells per rank the call works on
   double bytes_per_cell = 0;  // bytes one unit must move, per cell
   double flops_per_cell = 0;  // flops one unit does, per cell
+  double weno_flops_per_cell = 0;  // the part of them in WENO5 advection terms (compute_probe.hpp)
   int units = 1;              // units of work per call (sweeps for SOR): figures are per unit
 };
 

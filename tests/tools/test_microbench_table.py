@@ -12,11 +12,14 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 SCRIPT = os.path.join(HERE, "..", "..", "harness", "microbench", "to_markdown.py")
 
 
-def row(name, gflops, gbps, flops, nbytes, triad, compute):
-    return {"name": name + "/manual_time", "run_name": name + "/manual_time", "run_type": "iteration",
-            "min_us": 1.0, "cpu_min_us": 1.0, "median_us": 2.0, "GBps": gbps, "GFLOPs": gflops,
-            "flops_per_cell": flops, "bytes_per_cell": nbytes, "triad_GBps": triad, "triad_us": 100.0,
-            "compute_GFLOPs": compute, "roofline_fraction": 0.0, "roof_fraction": 0.0}
+def row(name, gflops, gbps, flops, nbytes, triad, compute, weno=None, weno_flops=0.0):
+    r = {"name": name + "/manual_time", "run_name": name + "/manual_time", "run_type": "iteration",
+         "min_us": 1.0, "cpu_min_us": 1.0, "median_us": 2.0, "GBps": gbps, "GFLOPs": gflops,
+         "flops_per_cell": flops, "bytes_per_cell": nbytes, "triad_GBps": triad, "triad_us": 100.0,
+         "compute_GFLOPs": compute, "roofline_fraction": 0.0, "roof_fraction": 0.0}
+    if weno is not None:
+        r.update({"weno_GFLOPs": weno, "weno_flops_per_cell": weno_flops})
+    return r
 
 
 class RoofFraction(unittest.TestCase):
@@ -45,6 +48,24 @@ class RoofFraction(unittest.TestCase):
         self.assertEqual(cells["BM_Stream"][-2:], ["0.500", "0.500"])
         # No counted flops: the triad is its only roof.
         self.assertEqual(cells["BM_Halo"][-2:], ["0.200", "0.200"])
+
+    def test_weno_flops_at_the_weno_roof(self):
+        # Best probes: triad 10 GB/s, multiply-add 50 GFLOP/s, WENO5 25 GFLOP/s (third row).
+        # A kernel of 100 flops per cell, 50 of them WENO5, and 10 B: the compute roof time
+        # is 50/50 + 50/25 = 3 ns per cell (bytes: 1 ns); at 20 GFLOP/s it takes 5 ns, so 0.6
+        # of its roof, while the multiply-add peak alone would say 0.4.
+        heading, cells = self.table([row("BM_Mixed", 20.0, 2.0, 100, 10, 10.0, 50.0, 20.0, 50.0),
+                                     row("BM_Dense", 25.0, 2.5, 100, 10, 8.0, 40.0, 22.0, 0.0),
+                                     row("BM_Weno", 12.5, 0.1, 100, 1, 9.0, 45.0, 25.0, 100.0)])
+        self.assertIn("WENO5 probe 25.0 GFLOP/s per rank", heading)
+        self.assertEqual(cells["BM_Mixed"][-1], "0.600")
+        self.assertEqual(cells["BM_Dense"][-1], "0.500")  # no WENO5 flops: the peak alone
+        self.assertEqual(cells["BM_Weno"][-1], "0.500")
+
+    def test_older_runs_without_the_weno_probe(self):
+        heading, cells = self.table([row("BM_Mixed", 20.0, 2.0, 100, 10, 10.0, 50.0)])
+        self.assertNotIn("WENO5", heading)
+        self.assertEqual(cells["BM_Mixed"][-1], "0.400")
 
 
 if __name__ == "__main__":
