@@ -11,6 +11,7 @@
 
 #include "box_loops.hpp"
 #include "constitutive.hpp"
+#include "mul_add.hpp"
 
 namespace efsi {
 namespace {
@@ -285,20 +286,12 @@ Box owned_top_face(const Field& q, const Box& cells) {
 
 namespace efsi {
 
-void stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, std::array<Field, 3>& out,
-                       const Box& faces) {
-  const Inv inv(s.domain());
-  faces_of_components(s, out, faces,
-                      [&](auto c, int i, int j, int k) { return divergence_of<decltype(c)::value>(tau, inv, i, j, k); });
-}
-
-void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
-                                      const std::array<Field, 3>& div_b, double c, const std::array<Field, 3>& base,
-                                      std::array<Field, 3>& out, const Box& faces) {
+void add_stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, double c,
+                           const std::array<Field, 3>& base, std::array<Field, 3>& out, const Box& faces) {
   const Inv inv(s.domain());
   faces_of_components(s, out, faces, [&](auto m, int i, int j, int k) {
     constexpr int C = decltype(m)::value;
-    return base[C](i, j, k) + c * (divergence_of<C>(tau_a, inv, i, j, k) - div_b[C](i, j, k));
+    return mul_add(c, divergence_of<C>(tau, inv, i, j, k), base[C](i, j, k));
   });
 }
 

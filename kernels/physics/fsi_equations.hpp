@@ -115,14 +115,11 @@ void stretched_stress_owned(const FieldSet& s, const Physics& ph, double dt, con
 // to the owned top wall face like compute_transport).
 void add_stretching(const FieldSet& s, double dt, const std::array<Field, 6>& base, std::array<Field, 6>& out,
                     const Box& cells);
-// div tau on the faces of `faces` (zero on the wall faces of v), summed as the momentum
-// equation sums it.
-void stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, std::array<Field, 3>& out,
-                       const Box& faces);
-// out = base + c (div tau_a - div_b) on the faces of `faces` (wall faces of v set to zero),
-// div_b from stress_divergence: the iteration's explicit half, the same in every sweep.
-void add_stress_divergence_difference(const FieldSet& s, const std::array<Field, 6>& tau_a,
-                                      const std::array<Field, 3>& div_b, double c, const std::array<Field, 3>& base,
-                                      std::array<Field, 3>& out, const Box& faces);
+// out = base + c div tau on the faces of `faces` (wall faces of v set to zero), div tau
+// summed as the momentum equation sums it.  The Crank-Nicolson iteration calls it once
+// with the explicit stress and -c (its explicit half, the same in every sweep) and then in
+// every sweep with the iterate's stress and c on that base.
+void add_stress_divergence(const FieldSet& s, const std::array<Field, 6>& tau, double c,
+                           const std::array<Field, 3>& base, std::array<Field, 3>& out, const Box& faces);
 
 }  // namespace efsi

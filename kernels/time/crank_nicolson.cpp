@@ -36,8 +36,6 @@ CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWor
                   Field(decomp, work.vstar[2].spec())},
       v_previous_{Field(decomp, work.vstar[0].spec()), Field(decomp, work.vstar[1].spec()),
                   Field(decomp, work.vstar[2].spec())},
-      div_tau_explicit_{Field(decomp, work.vstar[0].spec()), Field(decomp, work.vstar[1].spec()),
-                        Field(decomp, work.vstar[2].spec())},
       b_advected_(tensor_fields(decomp, work.B_new, "_adv")),
       tau_star_(tensor_fields(decomp, work.tau, "*")),
       v_halo_(decomp, {&work.vstar[0], &work.vstar[1], &work.vstar[2]}, Reach::full, timers),
@@ -47,18 +45,17 @@ CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWor
 
 void CrankNicolsonStress::iterate(const FsiState& state, FsiWork& w, const Physics& ph, double dt) {
   const FieldSet s = state.fields();
+  const double c = 0.5 * dt / ph.rho;
   const Int3 n = s.decomp().local();
   const Box owned{{0, 0, 0}, n};
   const Box faces = full_boxes(n).momentum;
   {
     RegionTimers::Scope t(timers_, Region::compute);
-    for (int a = 0; a < 3; ++a) v_explicit_[a].copy_from(w.vstar[a]);
     // Bt^N - dt v^N.grad Bt^N: the explicit transport less its stretching.
     add_stretching(s, -dt, w.B_new, b_advected_, owned);
-    // The explicit stress's divergence, subtracted in every sweep.
-    stress_divergence(s, w.tau, div_tau_explicit_, faces);
+    // v* - c div tau^N: the part of every sweep's update that does not change.
+    add_stress_divergence(s, w.tau, -c, w.vstar, v_explicit_, faces);
   }
-  const double c = 0.5 * dt / ph.rho;
   for (int m = 0; m < sweeps_; ++m) {
     v_halo_.exchange();
     {
@@ -70,7 +67,7 @@ void CrankNicolsonStress::iterate(const FsiState& state, FsiWork& w, const Physi
     RegionTimers::Scope t(timers_, Region::compute);
     if (m + 1 == sweeps_)  // keep the last iterate to measure the final sweep's change
       for (int a = 0; a < 3; ++a) v_previous_[a].copy_from(w.vstar[a]);
-    add_stress_divergence_difference(s, tau_star_, div_tau_explicit_, c, v_explicit_, w.vstar, faces);
+    add_stress_divergence(s, tau_star_, c, v_explicit_, w.vstar, faces);
   }
   {
     RegionTimers::Scope t(timers_, Region::compute);

@@ -41,7 +41,7 @@ class CrankNicolsonStress {
  private:
   int sweeps_;
   RegionTimers* timers_;
-  std::array<Field, 3> v_explicit_, v_previous_, div_tau_explicit_;
+  std::array<Field, 3> v_explicit_, v_previous_;  // v* - c div tau^N; the last sweep's iterate
   std::array<Field, 6> b_advected_, tau_star_;
   HaloExchange v_halo_, tau_halo_;
   double last_change_ = 0.0;
