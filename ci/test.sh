@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's test command: installs what is missing, builds, runs every test
-# (MPI tests on 1 to 8 ranks, oversubscribed on small machines), then, for the release build,
+# (MPI tests on 1 to 8 ranks and one on 64, oversubscribed on small machines), then, for the release build,
 # the micro-benchmark gate (harness/microbench/README.md: bench_kernels on 2 ranks against
 # the committed baseline, about half a minute).
 #   ci/test.sh            release build

@@ -86,7 +86,7 @@ int run(const Options& o) {
   c.solver.velocity_limit = default_velocity_limit(c);
   const std::string dir = o.out.empty() ? "." : o.out;
   check_writable(dir + "/comparison.txt", "--out");
-  check_writable(o.csv, "--csv");
+  check_csv(o.csv);
 
   // Every method's set-up is checked before the first one runs: a run of hours must not be
   // followed by a configuration error. Every method's solver stays alive to the comparison at
@@ -103,12 +103,10 @@ int run(const Options& o) {
   }
   check_node_memory(bytes, o.force_memory);
 
-  std::vector<RunOutcome> runs;
-  std::vector<std::vector<SolidRegion>> regions;
-  std::vector<std::vector<double>> phi_global;  // on rank 0: the methods may run on different rank grids
-  for (std::size_t k = 0; k < methods.size(); ++k) {
-    choose_method(c, methods[k]);
-    const std::string tag = c.method.name();
+  // Every method's outputs (and restart file) are checked before the first method runs.
+  std::vector<RunRequest> requests;
+  for (const MethodChoice& m : methods) {
+    const std::string tag = m.name();
     RunRequest req;
     req.program = "accuracy";
     req.experiment = "accuracy";
@@ -126,7 +124,17 @@ int run(const Options& o) {
     StateOptions state = o.state;
     if (state.snapshot_prefix.empty()) state.snapshot_prefix = dir + "/snapshot";
     apply_state_options(state, req, tag);
-    runs.push_back(run_case(c, particles[k], req));
+    check_outputs(req);
+    requests.push_back(std::move(req));
+  }
+
+  std::vector<RunOutcome> runs;
+  std::vector<std::vector<SolidRegion>> regions;
+  std::vector<std::vector<double>> phi_global;  // on rank 0: the methods may run on different rank grids
+  for (std::size_t k = 0; k < methods.size(); ++k) {
+    choose_method(c, methods[k]);
+    const std::string tag = c.method.name();
+    runs.push_back(run_case(c, particles[k], requests[k]));
     const CartDecomposition& dec = *runs.back().decomp;
     const Field& phi = runs.back().solver->state().phi();
     regions.push_back(solid_regions(phi, c.domain, dec));

@@ -164,12 +164,18 @@ void write_outputs(const RunRequest& req, const std::string& profile, const std:
 
 }  // namespace
 
+void check_outputs(const RunRequest& req) {
+  for (const auto& [path, opt] : {std::pair{&req.profile, "--profile"},
+                                  {&req.series, "--series"},
+                                  {&req.centroids, "--centroids"},
+                                  {&req.checkpoint, "--checkpoint"},
+                                  {&req.snapshots, "--snapshot-prefix"}})
+    check_writable(*path, opt);
+  check_csv(req.csv);
+}
+
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
-  for (const auto& [path, opt] : {std::pair{req.profile, "--profile"},
-                                  {req.series, "--series"},
-                                  {req.centroids, "--centroids"},
-                                  {req.csv, "--csv"}})
-    check_writable(path, opt);
+  check_outputs(req);
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
 
@@ -191,9 +197,10 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const long measured = req.total_steps - first - 1;
   const HybridLayout layout = hybrid_layout(dec.comm(), max_threads());
   if (is_root()) {
-    std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s\n",
+    std::printf("%s: %s, %s halo, %d ranks as %s, local block %s, %d thread(s) per rank, cores %s%s\n",
                 req.program.c_str(), c.method.name().c_str(), to_string(c.solver.comm), ranks,
-                to_string(dec.dims()).c_str(), to_string(dec.local()).c_str(), max_threads(), layout.cores.c_str());
+                to_string(dec.dims()).c_str(), to_string(dec.local()).c_str(), max_threads(), layout.cores.c_str(),
+                layout.cores_shared ? " (ranks share cores)" : "");
     if (layout.oversubscribed)
       std::printf(
           "warning: ranks x threads exceed the cores of a node: timings not representative, the row is "

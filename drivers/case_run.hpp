@@ -41,7 +41,11 @@ struct RunOutcome {
   RunRecord record;                    // the CSV row, for drivers that append it themselves
 };
 
-// Collective over MPI_COMM_WORLD. Checks that every output is writable and that the node
+// Collective over MPI_COMM_WORLD: every output the request names can be created where it
+// will be written (check_writable), or ConfigError naming the option and the path.
+void check_outputs(const RunRequest& req);
+
+// Collective over MPI_COMM_WORLD. Checks that every output is writable (check_outputs) and that the node
 // holds the solver (check_node_memory) before allocating; throws OutputError on every rank
 // when one cannot be written after the run.
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);

@@ -22,7 +22,8 @@ void add_state_options(CLI::App& app, StateOptions& o);
 // Checks the values (ConfigError naming the offending one) and copies them into `req`,
 // with the checkpoint path `checkpoint.h5` when only --checkpoint-every names none.
 // `tag` ("" for none) is inserted before the extension of each path (accuracy: one file per
-// method).  Collective: probes that the outputs can be written and the restart file read.
+// method).  Probes that the restart file can be read; run_case (check_outputs) probes that
+// the outputs can be written.
 void apply_state_options(const StateOptions& o, RunRequest& req, const std::string& tag = "");
 
 }  // namespace efsi

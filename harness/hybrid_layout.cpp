@@ -3,7 +3,10 @@
 #include <sched.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <vector>
 
 namespace efsi {
@@ -17,11 +20,10 @@ std::string env(const char* name) {
   return s;
 }
 
-// The cores this rank's OpenMP threads may run on, as ranges, e.g. "0-3+8": the union of
-// the threads' masks, since with OMP_PROC_BIND each thread (the initial one too) is pinned
-// to its own place and no single thread's mask shows the rank's cores.
-std::string my_cores() {
-  cpu_set_t set;
+// The cores this rank's OpenMP threads may run on: the union of the threads' masks, since
+// with OMP_PROC_BIND each thread (the initial one too) is pinned to its own place and no
+// single thread's mask shows the rank's cores.  False when a mask could not be read.
+bool my_cores(cpu_set_t& set) {
   CPU_ZERO(&set);
   bool ok = true;
 #pragma omp parallel
@@ -35,7 +37,11 @@ std::string my_cores() {
       CPU_OR(&set, &set, &mine);
     }
   }
-  if (!ok) return "?";
+  return ok;
+}
+
+// "0-3+8": the set as ranges.
+std::string ranges(const cpu_set_t& set) {
   std::string out;
   for (int c = 0; c < CPU_SETSIZE; ++c) {
     if (!CPU_ISSET(c, &set)) continue;
@@ -46,23 +52,98 @@ std::string my_cores() {
     if (last > c) out += '-' + std::to_string(last);
     c = last;
   }
+  return out.empty() ? "?" : out;  // an empty set: the mask could not be read
+}
+
+// The distinct bindings of a group of ranks, merged pairwise up a reduction tree: its size
+// is fixed, whatever the rank count.
+struct Bindings {
+  struct Entry {
+    cpu_set_t set;
+    std::int64_t ranks;
+    std::int64_t first_rank;
+  };
+  std::int64_t used = 0;
+  std::int64_t other = 0;  // ranks whose binding found no free entry
+  Entry entry[kMaxBindings];
+
+  void add(const Entry& e) {
+    for (std::int64_t i = 0; i < used; ++i)
+      if (CPU_EQUAL(&entry[i].set, &e.set)) {
+        entry[i].ranks += e.ranks;
+        entry[i].first_rank = std::min(entry[i].first_rank, e.first_rank);
+        return;
+      }
+    if (used < kMaxBindings) entry[used++] = e;
+    else other += e.ranks;
+  }
+};
+
+void merge_bindings(void* in, void* inout, int* len, MPI_Datatype*) {
+  auto* a = static_cast<const Bindings*>(in);
+  auto* b = static_cast<Bindings*>(inout);
+  for (int n = 0; n < *len; ++n) {
+    for (std::int64_t i = 0; i < a[n].used; ++i) b[n].add(a[n].entry[i]);
+    b[n].other += a[n].other;
+  }
+}
+
+// The summary on rank 0 of `comm` ("" elsewhere).  Reduced, not gathered: with more
+// distinct bindings than entries, which ones get an entry depends on the tree's order.
+std::string binding_summary(MPI_Comm comm, const cpu_set_t& mine, bool readable) {
+  int rank = 0;
+  MPI_Comm_rank(comm, &rank);
+  Bindings local{};
+  Bindings::Entry e{};
+  e.set = mine;
+  if (!readable) CPU_ZERO(&e.set);
+  e.ranks = 1;
+  e.first_rank = rank;
+  local.add(e);
+  MPI_Datatype type;
+  MPI_Type_contiguous(static_cast<int>(sizeof(Bindings)), MPI_BYTE, &type);
+  MPI_Type_commit(&type);
+  MPI_Op op;
+  MPI_Op_create(&merge_bindings, 1, &op);
+  Bindings all{};
+  MPI_Reduce(&local, &all, 1, type, op, 0, comm);
+  MPI_Op_free(&op);
+  MPI_Type_free(&type);
+  if (rank != 0) return {};
+  std::sort(all.entry, all.entry + all.used,
+            [](const Bindings::Entry& x, const Bindings::Entry& y) { return x.first_rank < y.first_rank; });
+  std::string out;
+  for (std::int64_t i = 0; i < all.used; ++i) {
+    if (i > 0) out += '/';
+    out += ranges(all.entry[i].set);
+    out += '*';
+    out += std::to_string(all.entry[i].ranks);
+  }
+  if (all.other > 0) out += "/other*" + std::to_string(all.other);
   return out;
 }
 
-}  // namespace
-
-bool node_oversubscribed(MPI_Comm comm, int threads) {
+// Whether two ranks of one node may run on a common core, and whether the node's ranks x
+// threads exceed its cores: counted on the node (the masks summed core by core), then the
+// worst node's answer everywhere.
+void node_checks(MPI_Comm comm, const cpu_set_t& mine, int threads, HybridLayout& h) {
   MPI_Comm node;
   MPI_Comm_split_type(comm, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   int local = 1;
   MPI_Comm_size(node, &local);
+  std::vector<int> mine_count(CPU_SETSIZE), on_node(CPU_SETSIZE);
+  for (int c = 0; c < CPU_SETSIZE; ++c) mine_count[c] = CPU_ISSET(c, &mine) ? 1 : 0;
+  MPI_Allreduce(mine_count.data(), on_node.data(), CPU_SETSIZE, MPI_INT, MPI_SUM, node);
   MPI_Comm_free(&node);
   const long cores = sysconf(_SC_NPROCESSORS_ONLN);
-  const int mine = long(local) * threads > cores ? 1 : 0;
-  int any = 0;
-  MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm);
-  return any != 0;
+  int flags[2] = {long(local) * threads > cores ? 1 : 0,
+                  std::any_of(on_node.begin(), on_node.end(), [](int n) { return n > 1; }) ? 1 : 0};
+  MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, comm);
+  h.oversubscribed = flags[0] != 0;
+  h.cores_shared = flags[1] != 0;
 }
+
+}  // namespace
 
 HybridLayout hybrid_layout(MPI_Comm comm, int threads) {
   HybridLayout h;
@@ -70,23 +151,14 @@ HybridLayout hybrid_layout(MPI_Comm comm, int threads) {
   h.omp_num_threads = env("OMP_NUM_THREADS");
   h.omp_places = env("OMP_PLACES");
   h.omp_proc_bind = env("OMP_PROC_BIND");
-  h.oversubscribed = node_oversubscribed(comm, threads);
-
-  // Every rank's core list, gathered everywhere so that all ranks hold the same layout.
-  const std::string mine = my_cores();
-  int size = 1;
-  MPI_Comm_size(comm, &size);
-  const int len = static_cast<int>(mine.size());
-  std::vector<int> lens(size), displs(size);
-  MPI_Allgather(&len, 1, MPI_INT, lens.data(), 1, MPI_INT, comm);
-  int total = 0;
-  for (int r = 0; r < size; ++r) displs[r] = total, total += lens[r];
-  std::string all(static_cast<std::size_t>(total), ' ');
-  MPI_Allgatherv(mine.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR, comm);
-  for (int r = 0; r < size; ++r) {
-    if (r > 0) h.cores += '/';
-    h.cores.append(all, static_cast<std::size_t>(displs[r]), static_cast<std::size_t>(lens[r]));
-  }
+  cpu_set_t mine;
+  const bool readable = my_cores(mine);
+  node_checks(comm, mine, threads, h);
+  h.cores = binding_summary(comm, mine, readable);
+  int len = static_cast<int>(h.cores.size());
+  MPI_Bcast(&len, 1, MPI_INT, 0, comm);
+  h.cores.resize(static_cast<std::size_t>(len));
+  MPI_Bcast(h.cores.data(), len, MPI_CHAR, 0, comm);
   return h;
 }
 

@@ -2,14 +2,17 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 #include <thread>
 
+#include "config_error.hpp"
 #include "text_file.hpp"
 
 #ifndef EFSI_GIT_SHA
@@ -100,7 +103,8 @@ const std::vector<std::string>& csv_columns() {
                                                 "cores",
                                                 "integrator",
                                                 "pressure_iterations",
-                                                "pressure_setup_s"};
+                                                "pressure_setup_s",
+                                                "cores_shared"};
   return cols;
 }
 
@@ -121,14 +125,34 @@ std::string csv_row(const RunRecord& r) {
     << clean(build_revision()) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
     << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
-    << num(r.pressure_setup_s) << '\n';
+    << num(r.pressure_setup_s) << ',' << (r.layout.cores_shared ? 1 : 0) << '\n';
   return o.str();
 }
 
-void append_csv(const std::string& path, const RunRecord& r) {
+void append_csv(const std::string& path, const RunRecord& r) { append_locked(path, csv_header() + '\n', csv_row(r)); }
+
+std::string csv_header() {
   std::string header;
   for (const auto& c : csv_columns()) header += (header.empty() ? "" : ",") + c;
-  append_locked(path, header + '\n', csv_row(r));
+  return header;
+}
+
+void check_csv(const std::string& path) {
+  check_writable(path, "--csv");
+  if (path.empty()) return;
+  int rank = 0, other_columns = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  if (rank == 0) {
+    std::ifstream in(path);
+    std::string first;
+    if (in && std::getline(in, first) && !first.empty() && first != csv_header())
+      other_columns = static_cast<int>(std::count(first.begin(), first.end(), ',')) + 1;
+  }
+  MPI_Bcast(&other_columns, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (other_columns > 0)
+    throw ConfigError("--csv '" + path + "' has another header (" + std::to_string(other_columns) +
+                      " columns, this build writes " + std::to_string(csv_columns().size()) +
+                      "): its rows would not line up; append to a new file");
 }
 
 }  // namespace efsi

@@ -33,8 +33,9 @@ std::string build_revision();
 
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
 // omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator, pressure_iterations,
-// pressure_setup_s.
+// pressure_setup_s, cores_shared.
 const std::vector<std::string>& csv_columns();
+std::string csv_header();  // the columns joined by commas, no newline
 
 // Fills host, MPI library, compiler, git revision and UTC timestamp, and formats the row.
 std::string csv_row(const RunRecord& r);
@@ -43,5 +44,10 @@ std::string csv_row(const RunRecord& r);
 // to other processes using the same function. Throws std::runtime_error naming the file
 // when it cannot be written.
 void append_csv(const std::string& path, const RunRecord& r);
+
+// Collective over MPI_COMM_WORLD, before a run: --csv PATH can be written (check_writable)
+// and, when it already holds a header, it is this build's, so that the rows line up;
+// ConfigError naming the path otherwise.  An empty path passes.
+void check_csv(const std::string& path);
 
 }  // namespace efsi

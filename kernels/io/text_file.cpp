@@ -14,19 +14,31 @@
 namespace efsi {
 namespace {
 
-enum class Writable { yes, no, not_regular };
+// Whole files are written beside `path` and renamed onto it (write_whole_file, and HDF5's
+// write_hdf5_atomically), and a missing CSV is created there, so a file is actually created
+// beside `path` and removed again: access() answers yes to root for /proc, a read-only mount
+// or a full inode table, where only a real creation tells.  An existing special file (a
+// device, a FIFO) is refused: a temporary beside it would land in /dev, and the suite's
+// outputs are meant to be kept.
+struct Probe {
+  enum Result : int { ok, not_regular, not_writable, no_new_file } result = ok;
+  int err = 0;
+};
 
-// Whole files are created beside `path` (write_whole_file), so its directory must take a new
-// entry; an existing special file (a device, a FIFO) is refused: a temporary beside it would
-// land in /dev, and the suite's outputs are meant to be kept.
-Writable probe(const std::string& path) {
-  const auto slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? "." : (slash == 0 ? "/" : path.substr(0, slash));
-  if (::access(dir.c_str(), W_OK) != 0) return Writable::no;
+Probe probe(const std::string& path) {
   struct stat st {};
-  if (::stat(path.c_str(), &st) != 0) return errno == ENOENT ? Writable::yes : Writable::no;
-  if (!S_ISREG(st.st_mode)) return Writable::not_regular;
-  return ::access(path.c_str(), W_OK) == 0 ? Writable::yes : Writable::no;
+  if (::stat(path.c_str(), &st) == 0) {
+    if (!S_ISREG(st.st_mode)) return {Probe::not_regular, 0};
+    if (::access(path.c_str(), W_OK) != 0) return {Probe::not_writable, errno};
+  } else if (errno != ENOENT) {
+    return {Probe::not_writable, errno};
+  }
+  const std::string probe_file = path + ".probe." + std::to_string(::getpid());
+  const int fd = ::open(probe_file.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+  if (fd < 0) return {Probe::no_new_file, errno};
+  ::close(fd);
+  if (::unlink(probe_file.c_str()) != 0) return {Probe::no_new_file, errno};
+  return {};
 }
 
 [[noreturn]] void fail(const std::string& path, const std::string& reason) {
@@ -60,13 +72,20 @@ void cut_back(int fd, off_t size) {
 
 void check_writable(const std::string& path, const char* option) {
   if (path.empty()) return;
-  int rank = 0, state = 0;
+  int rank = 0;
   MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-  if (rank == 0) state = static_cast<int>(probe(path));
-  MPI_Bcast(&state, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  Probe p;
+  if (rank == 0) p = probe(path);
+  int state[2] = {p.result, p.err};
+  MPI_Bcast(state, 2, MPI_INT, 0, MPI_COMM_WORLD);
   const std::string what = std::string(option) + " '" + path + "'";
-  if (state == static_cast<int>(Writable::no)) throw ConfigError(what + " cannot be written");
-  if (state == static_cast<int>(Writable::not_regular)) throw ConfigError(what + " is not a regular file");
+  const std::string reason = std::strerror(state[1]);
+  switch (state[0]) {
+    case Probe::not_regular: throw ConfigError(what + " is not a regular file");
+    case Probe::not_writable: throw ConfigError(what + " cannot be written: " + reason);
+    case Probe::no_new_file: throw ConfigError(what + " cannot be written: no file can be created beside it (" + reason + ")");
+    default: return;
+  }
 }
 
 void write_whole_file(const std::string& path, const std::vector<std::string_view>& pieces) {

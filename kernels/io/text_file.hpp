@@ -14,9 +14,11 @@
 
 namespace efsi {
 
-// Collective over MPI_COMM_WORLD: rank 0 checks that `path` can be created or written and
-// every rank throws ConfigError ("--series 'PATH' cannot be written", "... is not a regular
-// file") if not; creates nothing.  An empty path passes.
+// Collective over MPI_COMM_WORLD, before a run: rank 0 creates and removes a file beside
+// `path` (where its temporary or, for a CSV, the file itself will be created) and checks that
+// an existing `path` is a regular file it may write; every rank throws ConfigError
+// ("--series 'PATH' cannot be written: REASON", "... is not a regular file") if not.  Leaves
+// nothing behind.  An empty path passes.
 void check_writable(const std::string& path, const char* option);
 
 // `pieces`, one after another, become the whole of `path`: written to a temporary beside it,

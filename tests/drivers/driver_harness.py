@@ -45,7 +45,7 @@ OPTIONAL_NUMBER_COLUMNS = ("eps", "ns_per_step", "nc_per_step")
 TEXT_COLUMNS = ("host", "mpi", "compiler", "git_sha")
 # The suite's columns after section 8's: the hybrid layout (harness/hybrid_layout.hpp).
 SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores", "integrator",
-                 "pressure_iterations", "pressure_setup_s"]
+                 "pressure_iterations", "pressure_setup_s", "cores_shared"]
 
 class Result:
     def __init__(self, rc, out, err, timed_out, seconds):
@@ -362,9 +362,13 @@ class DriverTestCase(unittest.TestCase):
         self.assertGreaterEqual(float(r["pressure_setup_s"]), 0.0)
         # The hybrid layout: the environment the ranks saw, one core list per rank.
         self.assertEqual(r["omp_num_threads"], str(threads))
-        self.assertEqual(len(r["cores"].split("/")), ranks, "one core list per rank: %r" % r["cores"])
-        for cores in r["cores"].split("/"):
-            self.assertRegex(cores, r"^\d+(-\d+)?(\+\d+(-\d+)?)*$")
+        # The distinct bindings with their rank counts: a size that does not grow with the ranks.
+        bindings = [b.split("*") for b in r["cores"].split("/")]
+        for cores, count in bindings:
+            self.assertRegex(cores, r"^\d+(-\d+)?(\+\d+(-\d+)?)*$", r["cores"])
+        self.assertEqual(len({cores for cores, _ in bindings}), len(bindings), r["cores"])
+        self.assertEqual(sum(int(count) for _, count in bindings), ranks, "every rank counted once: %r" % r["cores"])
+        self.assertIn(r["cores_shared"], ("0", "1"))
 
         # Timing the measured steps only: every region a rank times lies inside its own
         # measured steps, so the means of the regions add up to no more than the slowest

@@ -484,22 +484,40 @@ class FailedOutputs(ChannelTestCase):
             self.assertEqual(f.read(), good, "the earlier series was clobbered")
         self.assertEqual(sorted(os.listdir(fs)), ["filler", "s.csv"])
 
-    def test_special_files_never_exit_0(self):
-        # /dev/full is refused before the run (not a regular file: no temporary in /dev);
-        # /proc/version passes that check as root but cannot be written, so the run fails at
-        # the end.  Either way: non-zero, one line naming the file.
+    def test_special_files_are_refused_before_the_run(self):
+        # /dev/full is not a regular file (a temporary beside it would land in /dev);
+        # /proc/version is one that root may "write", but no file can be created beside it,
+        # where its temporary or a new CSV would go.  Either way the run never starts: exit
+        # 2, one line naming the option and the file, no banner, nothing left behind.
         for path in ("/dev/full", "/proc/version"):
-            for option in ("--profile", "--series", "--csv"):
+            for option in ("--profile", "--series", "--centroids", "--csv", "--checkpoint", "--snapshot-prefix"):
                 with self.subTest(path=path, option=option):
-                    res = run(SMALL + [option, path], cwd=self.dir)
+                    before = snapshot(self.dir)
+                    res = run(SMALL + ["--snapshot-every", "1", option, path, "--csv", "run.csv"]
+                              if option != "--csv" else SMALL + [option, path], cwd=self.dir)
                     self.assertFalse(res.timed_out, str(res))
-                    self.assertIn(res.rc, (2, EXIT_OUTPUT_FAILED), str(res))
+                    self.assertEqual(res.rc, 2, str(res))
                     lines = res.err.splitlines()
                     self.assertEqual(len(lines), 1, str(res))
-                    self.assertRegex(lines[0], r"^channel: error: .*%s" % re.escape(path))
-                    if path == "/dev/full":
-                        self.assertIn("is not a regular file", lines[0])
-                    self.assertEqual([n for n in os.listdir(os.path.dirname(path)) if ".tmp." in n], [])
+                    self.assertRegex(lines[0], r"^channel: error: %s '%s' " % (re.escape(option), re.escape(path)))
+                    self.assertIn("is not a regular file" if path == "/dev/full" else "no file can be created beside it",
+                                  lines[0])
+                    self.assertEqual(res.out, "", "the run started before its outputs were checked")
+                    self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
+                    self.assertEqual([n for n in os.listdir(os.path.dirname(path)) if ".tmp." in n or ".probe." in n],
+                                     [])
+
+    def test_csv_of_other_columns_is_refused_before_the_run(self):
+        # Rows appended under another version's header would not line up with it.
+        with open(self.path("old.csv"), "w") as f:
+            f.write("experiment,method,comm\nchannel,acm,sync\n")
+        res = run(SMALL + ["--csv", "old.csv"], cwd=self.dir)
+        self.assertEqual(res.rc, 2, str(res))
+        self.assertRegex(res.err, r"^channel: error: --csv 'old.csv' has another header \(3 columns, this build "
+                                  r"writes \d+\)")
+        self.assertEqual(res.out, "")
+        with open(self.path("old.csv")) as f:
+            self.assertEqual(f.read(), "experiment,method,comm\nchannel,acm,sync\n")
 
     def test_unwritable_directory_for_every_output(self):
         with open(self.path("a_file"), "w") as f:

@@ -328,7 +328,7 @@ class UnwritableOutputs(DriverTestCase):
         with open(self.path("a_file"), "w") as f:
             f.write("not a directory\n")
         for program, option in self.CASES:
-            for path in ("no_such_dir/x.csv", "a_file/x.csv"):
+            for path in ("no_such_dir/x.csv", "a_file/x.csv", "/proc/version", "/proc"):
                 with self.subTest(program=program, option=option, path=path):
                     before = snapshot(self.dir)
                     res = run(option + [path], cwd=self.dir, program=program)
@@ -338,6 +338,18 @@ class UnwritableOutputs(DriverTestCase):
                     self.assertEqual(len(lines), 1, str(res))
                     self.assertRegex(lines[0], r"^%s: error: .*%s" % (program, re.escape(path)))
                     self.assertEqual(snapshot(self.dir), before, "a rejected run created a file")
+
+    def test_every_method_is_checked_before_the_first_runs(self):
+        # The second method's checkpoint name is a folder: refused before the first method's
+        # steps, not after them.
+        os.mkdir(self.path("ck-fft.h5"))
+        before = snapshot(self.dir)
+        res = run(["--cells", "32", "--length", "3.6", "--t-end", "0.002", "--methods", "acm,fft",
+                   "--checkpoint", "ck.h5"], cwd=self.dir, program="accuracy")
+        self.assertEqual(res.rc, 2, str(res))
+        self.assertRegex(res.err, r"^accuracy: error: --checkpoint 'ck-fft.h5' is not a regular file\n$")
+        self.assertEqual(res.out, "", "the first method ran before the second's outputs were checked")
+        self.assertEqual(snapshot(self.dir), before)
 
     def test_fields_over_a_small_tmpfs(self):
         fs = self.small_tmpfs()

@@ -69,8 +69,17 @@ class Refusals(unittest.TestCase):
             setpriv = shutil.which("setpriv")
             if not setpriv:
                 self.skipTest("setpriv (util-linux) not found")
-            os.chmod(self.dir, 0o777)
-            cmd = [setpriv, "--reuid=65534", "--regid=65534", "--clear-groups", sys.executable, TOOL, "start",
+            # The other user runs a copy of the script from a folder it can reach: the clone
+            # may live where only its owner can read (mktemp -d, root's home), and so may
+            # TMPDIR, so the folder is made under /tmp itself.
+            shared = tempfile.mkdtemp(prefix="efsi-slurm-cli-other-", dir="/tmp")
+            self.addCleanup(shutil.rmtree, shared, True)
+            os.chmod(shared, 0o777)
+            script = os.path.join(shared, os.path.basename(TOOL))
+            shutil.copyfile(TOOL, script)
+            os.chmod(script, 0o644)
+            self.dir = shared
+            cmd = [setpriv, "--reuid=65534", "--regid=65534", "--clear-groups", sys.executable, script, "start",
                    "--dir", self.dir]
             r = subprocess.run(cmd, capture_output=True, text=True, timeout=60)
         else:

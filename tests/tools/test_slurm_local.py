@@ -9,7 +9,7 @@ directory, then
 - gathers the jobs' CSVs with `campaign.py collect` and checks every row: valid, not
   oversubscribed, the rank and thread counts of its job, the OpenMP settings of the script,
   and a `cores` column that is the binding SLURM gave (flat: each rank its own core; hybrid:
-  the rank both cores);
+  the rank both cores), as distinct bindings with their rank counts, none shared;
 - runs one ReFrame check (weak_scaling with ACM) on the `slurm` partition of dev-2core
   through harness/reframe/run.sh, without references (no test here judges timings), and
   checks from its report that it passed as a SLURM job with its three figures;
@@ -147,12 +147,16 @@ class CampaignUnderSlurm(unittest.TestCase):
                                  (str(threads), "cores", "close"))
                 self.assertEqual(int(r["px"]) * int(r["py"]) * int(r["pz"]), ranks)
                 self.assertEqual(r["host"], Context.cluster.node)
-                per_rank = [core_set(c) for c in r["cores"].split("/")]
-                self.assertEqual(len(per_rank), ranks, r["cores"])
-                for cores in per_rank:  # --cpu-bind=cores: each rank exactly its own cores
+                # --cpu-bind=cores: each rank exactly its own cores, so every binding is one
+                # rank's and no two overlap.
+                bindings = [b.split("*") for b in r["cores"].split("/")]
+                self.assertEqual([count for _, count in bindings], ["1"] * ranks, r["cores"])
+                per_rank = [core_set(c) for c, _ in bindings]
+                for cores in per_rank:
                     self.assertEqual(len(cores), threads, r["cores"])
                     self.assertLessEqual(cores, all_cores, r["cores"])
                 self.assertEqual(len(set.union(*per_rank)), ranks * threads, f"ranks share cores: {r['cores']}")
+                self.assertEqual(r["cores_shared"], "0", r["cores"])
 
     def test_reframe_check_through_slurm(self):
         out = os.path.join(Context.work, "reframe")
