@@ -141,12 +141,14 @@ CartDecomposition::CartDecomposition(MPI_Comm comm, const Int3& global_cells, in
   MPI_Comm_size(comm, &ranks);
   dims_ = choose_dims(ranks, global_cells, min_block, forced);
 
-  const int periodic[3] = {1, 0, 1};
-  // reorder = 0 keeps rank numbers, so results do not depend on the MPI library's placement.
-  MPI_Cart_create(comm, 3, dims_.data(), periodic, 0, &cart_);
+  // The grid is MPI's Cartesian order (row-major, ranks not reordered, so results do not
+  // depend on the MPI library's placement) computed here rather than by MPI_Cart_create:
+  // a simulated MPI (SimGrid's SMPI) took hours for MPI_Cart_create at 8192 ranks, and the
+  // map from coordinates to ranks is a formula.
+  MPI_Comm_dup(comm, &cart_);
   MPI_Comm_rank(cart_, &rank_);
   MPI_Comm_size(cart_, &size_);
-  MPI_Cart_coords(cart_, rank_, 3, coords_.data());
+  coords_ = {rank_ / (dims_[1] * dims_[2]), rank_ / dims_[2] % dims_[1], rank_ % dims_[2]};
   for (int a = 0; a < 3; ++a) {
     local_[a] = global_[a] / dims_[a];
     offset_[a] = coords_[a] * local_[a];
@@ -163,9 +165,18 @@ int CartDecomposition::neighbour(const Int3& step) const {
   Int3 c = coords_;
   for (int a = 0; a < 3; ++a) c[a] += step[a];
   if (c[Y] < 0 || c[Y] >= dims_[Y]) return MPI_PROC_NULL;
-  int r = MPI_PROC_NULL;
-  MPI_Cart_rank(cart_, c.data(), &r);  // wraps the periodic axes
-  return r;
+  for (const int a : {X, Z}) c[a] = (c[a] + dims_[a]) % dims_[a];  // periodic
+  return (c[0] * dims_[1] + c[1]) * dims_[2] + c[2];
+}
+
+MPI_Comm CartDecomposition::sub_comm(const std::array<bool, 3>& keep) const {
+  // MPI_Cart_sub's groups and order: the ranks that share the coordinates of the axes not
+  // kept, ordered by rank (row-major order restricted to the kept axes).
+  int colour = 0;
+  for (int a = 0; a < 3; ++a) colour = colour * dims_[a] + (keep[a] ? 0 : coords_[a]);
+  MPI_Comm sub = MPI_COMM_NULL;
+  MPI_Comm_split(cart_, colour, rank_, &sub);
+  return sub;
 }
 
 }  // namespace efsi

@@ -59,6 +59,10 @@ class CartDecomposition {
   // Rank at coords + step (each component in {-1, 0, 1}); MPI_PROC_NULL across a wall.
   int neighbour(const Int3& step) const;
 
+  // Collective: the communicator of the ranks that differ only along the axes `keep` marks,
+  // as MPI_Cart_sub would give it (same groups, same order).  The caller frees it.
+  MPI_Comm sub_comm(const std::array<bool, 3>& keep) const;
+
  private:
   MPI_Comm cart_ = MPI_COMM_NULL;
   int rank_ = 0;

@@ -100,16 +100,56 @@ TEST(CartDecomposition, BlocksTileTheGridAndNeighboursWrap) {
   EXPECT_EQ(dec.neighbour({0, 1, 0}), MPI_PROC_NULL);
   EXPECT_EQ(dec.neighbour({0, -1, 0}), MPI_PROC_NULL);
   EXPECT_EQ(dec.neighbour({0, 0, 1}), dec.rank());  // pz = 1: its own neighbour
-  int right = -1;
   Int3 c = dec.coords();
   c[0] = (c[0] + 1) % p;
-  MPI_Cart_rank(dec.comm(), c.data(), &right);
-  EXPECT_EQ(dec.neighbour({1, 0, 0}), right);
+  EXPECT_EQ(dec.neighbour({1, 0, 0}), c[0]);  // p x 1 x 1: the rank is its x coordinate
 
   // Sum of local volumes equals the global volume.
   long long v = efsi::product(dec.local()), total = 0;
   MPI_Allreduce(&v, &total, 1, MPI_LONG_LONG, MPI_SUM, dec.comm());
   EXPECT_EQ(total, efsi::product(global));
+}
+
+// The grid is computed by hand (no MPI_Cart_create, which SimGrid's SMPI takes hours for at
+// 8192 ranks): on every rank grid of this rank count it is MPI's own Cartesian topology,
+// periodic in x and z, not reordered: the coordinates, the 26 neighbours, and the
+// communicators of MPI_Cart_sub, same groups in the same order.
+TEST(CartDecomposition, IsMpisCartesianTopologyOnEveryGrid) {
+  const int p = world_size();
+  for (int d0 = 1; d0 <= p; ++d0)
+    for (int d1 = 1; d0 * d1 <= p; ++d1) {
+      if (p % (d0 * d1) != 0) continue;
+      const Int3 dims{d0, d1, p / (d0 * d1)};
+      SCOPED_TRACE(efsi::to_string(dims));
+      CartDecomposition dec(MPI_COMM_WORLD, {3 * dims[0], 3 * dims[1], 3 * dims[2]}, 3, dims);
+      ASSERT_EQ(dec.dims(), dims);
+      MPI_Comm cart;
+      const int periodic[3] = {1, 0, 1};
+      MPI_Cart_create(MPI_COMM_WORLD, 3, dims.data(), periodic, 0, &cart);
+      Int3 coords{};
+      MPI_Cart_coords(cart, dec.rank(), 3, coords.data());
+      EXPECT_EQ(dec.coords(), coords);
+      for (int sz = -1; sz <= 1; ++sz)
+        for (int sy = -1; sy <= 1; ++sy)
+          for (int sx = -1; sx <= 1; ++sx) {
+            Int3 c{coords[0] + sx, coords[1] + sy, coords[2] + sz};
+            int expected = MPI_PROC_NULL;
+            if (c[1] >= 0 && c[1] < dims[1]) MPI_Cart_rank(cart, c.data(), &expected);
+            EXPECT_EQ(dec.neighbour({sx, sy, sz}), expected) << sx << "," << sy << "," << sz;
+          }
+      for (int keep = 1; keep < 7; ++keep) {
+        const std::array<bool, 3> kept{(keep & 1) != 0, (keep & 2) != 0, (keep & 4) != 0};
+        const int remain[3] = {kept[0], kept[1], kept[2]};
+        MPI_Comm mine = dec.sub_comm(kept), theirs;
+        MPI_Cart_sub(cart, remain, &theirs);
+        int same = MPI_UNEQUAL;
+        MPI_Comm_compare(mine, theirs, &same);
+        EXPECT_EQ(same, MPI_CONGRUENT) << "keep " << keep;
+        MPI_Comm_free(&mine);
+        MPI_Comm_free(&theirs);
+      }
+      MPI_Comm_free(&cart);
+    }
 }
 
 TEST(CartDecomposition, WallsOnlyAtTheOuterRanksInY) {

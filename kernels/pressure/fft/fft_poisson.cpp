@@ -56,13 +56,6 @@ void for_each_point(const Layout& box, F&& f) {
       for (g[0] = box.lo[0]; g[0] < box.hi[0]; ++g[0]) f(g);
 }
 
-MPI_Comm cart_sub(MPI_Comm cart, bool x, bool y, bool z) {
-  int remain[3] = {x, y, z};
-  MPI_Comm sub = MPI_COMM_NULL;
-  MPI_Cart_sub(cart, remain, &sub);
-  return sub;
-}
-
 // Builds the transpose inside `comm` from each member's `src(coords)` box to its
 // `dst(coords)` box; coords are the members' Cartesian coordinates in the full grid.
 void build_transpose(FftPoisson::Transpose& t, MPI_Comm comm, const Int3& my_coords, int elem,
@@ -233,9 +226,9 @@ FftPoisson::FftPoisson(const CartDecomposition& decomp, const Domain& domain, Pl
     return l;
   };
 
-  comm_x_ = cart_sub(decomp.comm(), true, false, false);
-  comm_z_ = cart_sub(decomp.comm(), false, false, true);
-  comm_xy_ = cart_sub(decomp.comm(), true, true, false);
+  comm_x_ = decomp.sub_comm({true, false, false});
+  comm_z_ = decomp.sub_comm({false, false, true});
+  comm_xy_ = decomp.sub_comm({true, true, false});
   build_transpose(t1_, comm_x_, me, 1, block, [&](const Int3& c) { return xpencil(c, NX); });
   build_transpose(t2_, comm_z_, me, 2, [&](const Int3& c) { return xpencil(c, MX); }, zpencil);
   build_transpose(t3_, comm_xy_, me, 2, zpencil, ypencil);
