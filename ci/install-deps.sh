@@ -18,6 +18,7 @@ packages=(
   jube                               # cluster benchmark definitions
   slurmctld slurmd slurm-client munge  # the local one-node SLURM cluster (harness/slurm-local)
   python3-venv                       # the ReFrame venv (harness/reframe/setup-venv.sh)
+  libsimgrid-dev                     # SimGrid's SMPI: the simulation build (harness/simgrid)
 )
 
 missing=()

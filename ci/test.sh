@@ -10,5 +10,7 @@ cd "$(dirname "$0")/.."
 preset="${1:-release}"
 bash ci/install-deps.sh
 bash ci/build.sh "$preset"
+# The simulation build (SimGrid's SMPI, build-simgrid/), which driver_simulation_build runs.
+bash ci/build.sh simgrid
 ctest --preset "$preset"
 if [ "$preset" = release ]; then bash ci/microbench_gate.sh build; fi

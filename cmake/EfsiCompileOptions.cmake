@@ -8,6 +8,9 @@ target_compile_options(efsi_options INTERFACE
   -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion
   -ffp-contract=off -fno-math-errno -fopenmp-simd
   $<$<CONFIG:Release,RelWithDebInfo>:-O3>)
+if(EFSI_SIMGRID)
+  target_compile_definitions(efsi_options INTERFACE EFSI_SIMGRID=1)
+endif()
 # EFSI_ARCH fixes the target instead (the counted preset's x86-64-v3: AVX2, which Valgrind
 # executes, and the same instructions whichever CPU builds it).
 set(EFSI_ARCH "" CACHE STRING "Target instruction set (-march=EFSI_ARCH); empty: EFSI_NATIVE decides")

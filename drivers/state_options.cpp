@@ -4,6 +4,7 @@
 
 #include "case_run.hpp"
 #include "config_error.hpp"
+#include "simulation.hpp"
 
 namespace efsi {
 namespace {
@@ -45,6 +46,13 @@ void apply_state_options(const StateOptions& o, RunRequest& req, const std::stri
   if (o.snapshot_every < 0)
     throw ConfigError("--snapshot-every " + std::to_string(o.snapshot_every) + " must be zero or positive");
   if (o.snapshot_every > 0 && o.snapshot_prefix.empty()) throw ConfigError("--snapshot-prefix '' names no file");
+  if (kSimulated) {
+    const char* asked = !o.restart.empty()              ? "--restart"
+                        : o.snapshot_every > 0          ? "--snapshot-every"
+                        : !o.checkpoint.empty() || o.checkpoint_every > 0 ? "--checkpoint"
+                                                                          : nullptr;
+    if (asked) throw ConfigError(std::string(asked) + ": " + kNoHdf5InSimulation);
+  }
   req.checkpoint = tagged(o.checkpoint.empty() && o.checkpoint_every > 0 ? "checkpoint.h5" : o.checkpoint, tag);
   req.checkpoint_every = o.checkpoint_every;
   req.restart = tagged(o.restart, tag);

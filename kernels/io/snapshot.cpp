@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 
+#include "hdf5_file.hpp"
 #include "text_file.hpp"
 
 namespace efsi {

@@ -6,8 +6,9 @@
 #include <string>
 #include <vector>
 
+#include "decomposition.hpp"
 #include "domain.hpp"
-#include "hdf5_file.hpp"
+#include "field.hpp"
 
 namespace efsi {
 

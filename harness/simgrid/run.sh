@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# Runs a driver of the simulation build (build-simgrid/, the `simgrid` preset) as N simulated
+# ranks under smpirun on a platform file, ranks filled node by node, PER_NODE on each (more
+# than a node's cores share them, as oversubscribed ranks do).
+#   harness/simgrid/run.sh PLATFORM.xml N PER_NODE DRIVER [driver options...]
+# e.g. harness/simgrid/run.sh harness/simgrid/platforms/dev-2core.xml 2 2 \
+#        build-simgrid/bin/weak_scaling --local 32 --steps 3 --csv sim.csv
+# The nodes are the platform's hosts node-0, node-1, ...  Environment: EFSI_SMPI_CFG, more
+# --cfg=... options for smpirun.
+set -euo pipefail
+if [ $# -lt 4 ]; then
+  echo "usage: $0 PLATFORM.xml RANKS RANKS_PER_NODE DRIVER [options...]" >&2
+  exit 2
+fi
+platform=$1 ranks=$2 per_node=$3
+shift 3
+[ -f "$platform" ] || { echo "run.sh: platform '$platform' not found" >&2; exit 2; }
+[[ "$ranks" =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: rank count '$ranks' is not a positive integer" >&2; exit 2; }
+[[ "$per_node" =~ ^[1-9][0-9]*$ ]] || { echo "run.sh: ranks per node '$per_node' is not a positive integer" >&2; exit 2; }
+hosts=$(mktemp)
+trap 'rm -f "$hosts"' EXIT
+nodes=$(( (ranks + per_node - 1) / per_node ))
+for ((n = 0; n < nodes; ++n)); do echo "node-$n:$per_node"; done > "$hosts"
+# Compute is SMPI's benchmark of the real loops on this host, charged at the platform's
+# core speed over smpi/host-speed (both 1 Gf: as measured).  The Open MPI selector: the
+# collective algorithms a real Open MPI picks.
+exec smpirun -np "$ranks" -platform "$platform" -hostfile "$hosts" \
+  --cfg=smpi/host-speed:1Gf --cfg=smpi/coll-selector:ompi --log=root.thres:warning \
+  ${EFSI_SMPI_CFG:-} "$@"
