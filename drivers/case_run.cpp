@@ -12,10 +12,12 @@
 
 #include "centroids.hpp"
 #include "checkpoint.hpp"
+#include "compute_model.hpp"
 #include "config_error.hpp"
 #include "driver_support.hpp"
 #include "hybrid_layout.hpp"
 #include "memory_estimate.hpp"
+#include "mpi_interpose.hpp"
 #include "run_record.hpp"
 #include "runtime.hpp"
 #include "snapshot.hpp"
@@ -81,10 +83,14 @@ constexpr ValidationCheck kValidationChecks[] = {
 struct Validation {
   bool finite = false, valid = false;
   double value[std::size(kValidationChecks)] = {};
+  bool simulated = false;  // the simulation build: no loop ran, nothing to validate
   std::string line() const;  // "validation: FIGURE = X (limit L), ...: PASSED" (or FAILED)
 };
 
 std::string Validation::line() const {
+  if (simulated)
+    return "validation: not run (simulated on " + node_model().platform +
+           ": the stages' loops were modelled, not run; the real build validates this configuration)";
   std::string out = "validation:";
   char b[160];
   for (std::size_t k = 0; k < std::size(kValidationChecks); ++k) {
@@ -147,6 +153,7 @@ RunRecord run_record(const ChannelCase& c, const RunRequest& req, const CartDeco
   r.integrator = c.solver.integrator;
   r.pressure_iterations = pressure_iterations;
   r.pressure_setup_s = pressure_setup_s;
+  if (kSimulated) r.simulated = node_model().platform;
   return r;
 }
 
@@ -176,6 +183,8 @@ void check_outputs(const RunRequest& req) {
 
 RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
   check_outputs(req);
+  init_compute_model();  // the simulation build's node model (compute_model.hpp); nothing otherwise
+  use_efficiency_of(c.method.name());
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
 
@@ -270,23 +279,27 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   const int progress = req.progress > 0 ? req.progress : (total >= 200 ? int(total / 20) : 0);
 
   double elapsed = 0.0;
+  MpiCensus step_census;    // what this rank sent inside the measured steps
   double iterations = 0.0;  // of the pressure solves, summed over the measured steps
   std::vector<FlowDiagnostics> tail;  // the last three steps, for the energy-budget check
   for (long s = 1; s <= measured; ++s) {
     const long done = first + s + 1;  // the warm-up step came first
     const bool want_series = want_rows && done % req.every == 0;
     const bool want_progress = progress > 0 && done % progress == 0;
-    const bool want_diag = want_series || want_progress || s + 3 > measured;
+    // The simulation build's fields hold no solution (compute_model.hpp): no diagnostics.
+    const bool want_diag = !kSimulated && (want_series || want_progress || s + 3 > measured);
     const double t0 = MPI_Wtime();
+    const MpiCensus before = mpi_census();
     solver.step();
     // Diagnostics need current ghosts: an async exchange is completed inside the timed
     // step, so that every region the timers count lies within the measured time.
     if (want_diag) solver.complete_exchange();
+    step_census = step_census + (mpi_census() - before);
     elapsed += MPI_Wtime() - t0;
     iterations += solver.pressure().report().sweeps;
     std::optional<FlowDiagnostics> d;
     if (want_series) d = record();
-    if (s + 3 > measured) tail.push_back(d ? *d : solver.diagnostics());
+    if (want_diag && s + 3 > measured) tail.push_back(d ? *d : solver.diagnostics());
     if (want_progress) {
       if (!d) d = solver.diagnostics();
       if (is_root())
@@ -298,7 +311,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   }
   save_state(true);
 
-  const Validation v = validate(tail, c.domain);
+  const Validation v = kSimulated ? Validation{true, true, {}, true} : validate(tail, c.domain);
   out.valid = v.valid;
   const TimerReport rep = summarize(solver.timers(), elapsed, dec.comm());
   if (is_root()) {
@@ -312,9 +325,15 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
     std::printf("%s\n", v.line().c_str());
   }
 
+  // The messages of a step, summed over the ranks: the same in the simulation build
+  // (harness/simgrid/README.md), whose exchanges are these.
+  long long sent[2] = {step_census.messages, step_census.bytes}, all_sent[2] = {0, 0};
+  MPI_Allreduce(sent, all_sent, 2, MPI_LONG_LONG, MPI_SUM, dec.comm());
   const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());
-  out.record = run_record(c, req, dec, layout, particles.size(), rep, tail.back().div_rms, v.valid,
-                          iterations / double(measured), solver.pressure().report().setup_seconds);
+  out.record = run_record(c, req, dec, layout, particles.size(), rep, tail.empty() ? 0.0 : tail.back().div_rms,
+                          v.valid, iterations / double(measured), solver.pressure().report().setup_seconds);
+  out.record.mpi_messages_per_step = double(all_sent[0]) / double(measured);
+  out.record.mpi_bytes_per_step = double(all_sent[1]) / double(measured);
   write_outputs(req, prof, series, centroid_rows, out.record);
   return out;
 }

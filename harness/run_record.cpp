@@ -104,7 +104,10 @@ const std::vector<std::string>& csv_columns() {
                                                 "integrator",
                                                 "pressure_iterations",
                                                 "pressure_setup_s",
-                                                "cores_shared"};
+                                                "cores_shared",
+                                                "simulated",
+                                                "mpi_messages_per_step",
+                                                "mpi_bytes_per_step"};
   return cols;
 }
 
@@ -125,7 +128,8 @@ std::string csv_row(const RunRecord& r) {
     << clean(build_revision()) << ',' << utc_now() << ',' << (r.layout.oversubscribed ? 1 : 0) << ','
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
     << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
-    << num(r.pressure_setup_s) << ',' << (r.layout.cores_shared ? 1 : 0) << '\n';
+    << num(r.pressure_setup_s) << ',' << (r.layout.cores_shared ? 1 : 0) << ',' << clean(r.simulated) << ','
+    << num(r.mpi_messages_per_step) << ',' << num(r.mpi_bytes_per_step) << '\n';
   return o.str();
 }
 

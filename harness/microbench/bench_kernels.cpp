@@ -142,7 +142,7 @@ KernelSetup& kernel_setup(int n) {
 void BM_Stress(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
-  bench::time_kernel(state, k.cost(bench::kStress), 1, [&] {
+  bench::time_kernel(state, k.cost(kStress), 1, [&] {
     compute_stress(k.state().fields(), k.physics(), k.work.root_phi, k.work.tau, full.stress_centres, full.stress_edges);
   });
 }
@@ -151,7 +151,7 @@ void BM_Stress(benchmark::State& state, int n) {
 void BM_MomentumRhs(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
-  bench::time_kernel(state, k.cost(bench::kMomentum), 1, [&] {
+  bench::time_kernel(state, k.cost(kMomentum), 1, [&] {
     momentum_tendency(k.state().fields(), k.physics(), k.work.tau, k.work.vstar, full.momentum,
                       RateOutput::euler_update(k.dt()));
   });
@@ -161,7 +161,7 @@ void BM_MomentumRhs(benchmark::State& state, int n) {
 void BM_Transport(benchmark::State& state, int n) {
   KernelSetup& k = kernel_setup(n);
   const KernelBoxes full = full_boxes(k.ch.dec->local());
-  bench::time_kernel(state, k.cost(bench::kTransport, bench::kTransportWenoFlops), 1, [&] {
+  bench::time_kernel(state, k.cost(kTransport, kTransportWenoFlops), 1, [&] {
     transport_tendency(k.state().fields(), k.work.phi_new, k.work.B_new, full.transport, 0.0,
                        RateOutput::euler_update(k.dt()));
   });
@@ -264,13 +264,13 @@ PerCell step_cost(const StepCase& m, const Int3& global, const Int3& dims, const
   // or async with every neighbour the rank itself); FsiSolver::tendencies.
   const bool messages = dims[X] * dims[Y] * dims[Z] > 1;
   const bool fused = m.choice.cn_sweeps == 0 && (m.mode == CommMode::sync || !messages);
-  PerCell c = (fused ? bench::kStressAndMomentum : bench::kStress + bench::kMomentum) + bench::kTransport +
-              bench::kDivergence + bench::kProject;
+  PerCell c = (fused ? kStressAndMomentum : kStress + kMomentum) + kTransport +
+              kDivergence + kProject;
   c = c + PerCell{h.state + h.vstar_faces + h.cell_faces, 0};
   const IncrementWork inc = m.choice.spec->increment_work(m.choice, global, dims);
   c = c + inc.kernels + PerCell{inc.cell_face_exchanges * h.cell_faces, 0};
   const int nc = m.choice.cn_sweeps;
-  if (nc > 0) c = c + bench::crank_nicolson_cost(nc) + PerCell{nc * (h.vstar_full + h.tau_faces) + h.vstar_full, 0};
+  if (nc > 0) c = c + crank_nicolson_cost(nc) + PerCell{nc * (h.vstar_full + h.tau_faces) + h.vstar_full, 0};
   return c;
 }
 
@@ -286,7 +286,7 @@ void BM_Step(benchmark::State& state, const StepCase& m, int n) {
   }
   FsiSolver& solver = *g_step->solver;
   const PerCell cost = step_cost(m, g_step->dec->global(), g_step->dec->dims(), k.halos);
-  bench::time_kernel(state, k.cost(cost, bench::kTransportWenoFlops), 1, [&] { solver.step(); });
+  bench::time_kernel(state, k.cost(cost, kTransportWenoFlops), 1, [&] { solver.step(); });
 }
 
 [[maybe_unused]] const bool kRegistered = [] {

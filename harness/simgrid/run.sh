@@ -21,9 +21,12 @@ hosts=$(mktemp)
 trap 'rm -f "$hosts"' EXIT
 nodes=$(( (ranks + per_node - 1) / per_node ))
 for ((n = 0; n < nodes; ++n)); do echo "node-$n:$per_node"; done > "$hosts"
-# Compute is SMPI's benchmark of the real loops on this host, charged at the platform's
-# core speed over smpi/host-speed (both 1 Gf: as measured).  The Open MPI selector: the
-# collective algorithms a real Open MPI picks.
+# Compute is charged by the stages themselves (kernels/grid/compute_model.hpp), so SMPI's
+# own benchmarking of the code between MPI calls is off; the simulated ranks' arrays are
+# folded onto shared pages (global: one block mapped again and again, which needs
+# vm.max_map_count above the blocks mapped); the Open MPI selector picks the collective
+# algorithms a real Open MPI picks.
 exec smpirun -np "$ranks" -platform "$platform" -hostfile "$hosts" \
-  --cfg=smpi/host-speed:1Gf --cfg=smpi/coll-selector:ompi --log=root.thres:warning \
+  --cfg=smpi/simulate-computation:no --cfg=smpi/shared-malloc:global \
+  --cfg=smpi/coll-selector:ompi --log=root.thres:warning \
   ${EFSI_SMPI_CFG:-} "$@"

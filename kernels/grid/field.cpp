@@ -4,6 +4,7 @@
 #include <new>
 
 #include "config_error.hpp"
+#include "simulation.hpp"
 
 namespace efsi {
 namespace {
@@ -31,7 +32,7 @@ const char* to_string(Stagger s) {
   return "?";
 }
 
-void Field::Free::operator()(double* p) const noexcept { std::free(p); }
+
 
 Field::Field(const CartDecomposition& decomp, FieldSpec spec)
     : spec_(std::move(spec)), n_(decomp.local()), owned_end_(decomp.local()), offset_(decomp.offset()) {
@@ -49,10 +50,10 @@ Field::Field(const CartDecomposition& decomp, FieldSpec spec)
   origin_ = leading_pad(h) + sy_ * h + sz_ * h;
   if (active_recorder) active_recorder->specs_.push_back(spec_);
 
-  const std::size_t bytes = static_cast<std::size_t>(round_up(std::ptrdiff_t(size_ * sizeof(double)), 64));
-  data_.reset(static_cast<double*>(std::aligned_alloc(64, bytes)));
-  if (!data_) throw std::bad_alloc();
-  fill(0.0);  // first touch by the threads that will work on the data
+  data_ = allocate_storage(size_, false);
+  // First touch by the threads that will work on the data; folded simulated storage
+  // (storage.hpp) is never read.
+  if constexpr (!kSimulated) fill(0.0);
 }
 
 std::size_t Field::allocation_doubles(const Int3& local, int halo) {

@@ -16,6 +16,7 @@
 
 #include "decomposition.hpp"
 #include "grid_types.hpp"
+#include "storage.hpp"
 
 namespace efsi {
 
@@ -87,14 +88,11 @@ class Field {
   void copy_from(const Field& other);
 
  private:
-  struct Free {
-    void operator()(double* p) const noexcept;
-  };
   FieldSpec spec_;
   Int3 n_{}, owned_end_{}, offset_{};
   std::ptrdiff_t sy_ = 0, sz_ = 0, origin_ = 0;
   std::size_t size_ = 0;
-  std::unique_ptr<double[], Free> data_;
+  Storage data_;
 };
 
 // Records the spec of every Field constructed while it lives, so that a memory estimate

@@ -5,10 +5,15 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "compute_model.hpp"
 #include "config_error.hpp"
 
 namespace efsi {
 namespace {
+
+// A value a halo copy moves: read once, written once (work_count.hpp); what the simulation
+// build charges for packing, unpacking, self-copies and walls.
+constexpr PerCell kCopiedValue{16, 0};
 
 // x-face runs are only halo-wide (1 to 3 values): a call to memcpy per run would cost
 // more than the copy itself.  The lengths are constants: GCC turns a copy loop of run-time
@@ -140,6 +145,8 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
     } else {
       mpi_doubles_ += send_count_[d];
       ++mpi_messages_;
+      for (int a = 0; a < 3; ++a)
+        if (crosses(d, a)) across_doubles_[a] += recv_count_[d];
     }
   }
   // Field by field, plane by plane: the two x-face runs of a row touch the same cache lines
@@ -149,8 +156,8 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
   std::sort(self_runs_.begin(), self_runs_.end(), [](const SelfRun& a, const SelfRun& b) {
     return a.field != b.field ? a.field < b.field : a.dst < b.dst;
   });
-  send_buf_.assign(send_total, 0.0);
-  recv_buf_.assign(recv_total, 0.0);
+  send_buf_ = allocate_storage(send_total, true);
+  recv_buf_ = allocate_storage(recv_total, true);
 }
 
 void HaloExchange::build_walls(const CartDecomposition& decomp) {
@@ -193,38 +200,46 @@ void HaloExchange::build_walls(const CartDecomposition& decomp) {
       }
     }
   }
+  for (const auto* runs : {&wall_zero_, &wall_mirror_})
+    for (const WallRun& w : *runs) wall_doubles_ += static_cast<std::size_t>(w.len);
 }
 
 void HaloExchange::pack() {
   const std::size_t nr = send_runs_.size();
-  double* buf = send_buf_.data();
+  double* buf = send_buf_.get();
   Field* const* f = fields_.data();
+  compute_stage(kCopiedValue, double(mpi_doubles_), [&] {
 #pragma omp parallel for schedule(static)
-  for (std::size_t r = 0; r < nr; ++r) {
-    const Run& run = send_runs_[r];
-    copy_block<true>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
-  }
+    for (std::size_t r = 0; r < nr; ++r) {
+      const Run& run = send_runs_[r];
+      copy_block<true>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
+    }
+  });
 }
 
 void HaloExchange::copy_self() {
   const std::size_t nr = self_runs_.size();
   Field* const* f = fields_.data();
+  compute_stage(kCopiedValue, double(local_doubles_), [&] {
 #pragma omp parallel for schedule(static)
-  for (std::size_t r = 0; r < nr; ++r) {
-    const SelfRun& run = self_runs_[r];
-    double* base = f[run.field]->data();
-    const double* src = base + run.src;
-    double* dst = base + run.dst;
-    for (int m = 0; m < run.rows; ++m, src += run.stride, dst += run.stride) copy_run(dst, src, run.len);
-  }
+    for (std::size_t r = 0; r < nr; ++r) {
+      const SelfRun& run = self_runs_[r];
+      double* base = f[run.field]->data();
+      const double* src = base + run.src;
+      double* dst = base + run.dst;
+      for (int m = 0; m < run.rows; ++m, src += run.stride, dst += run.stride) copy_run(dst, src, run.len);
+    }
+  });
 }
 
 void HaloExchange::unpack_and_walls() {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
-  double* buf = recv_buf_.data();
+  double* buf = recv_buf_.get();
   const std::size_t nr = recv_runs_.size();
   const std::size_t nz = wall_zero_.size(), nm = wall_mirror_.size();
+  const std::size_t unpacked = mpi_doubles_ - (finished_across_ >= 0 ? across_doubles_[finished_across_] : 0);
+  compute_stage(kCopiedValue, double(unpacked + wall_doubles_), [&] {
 #pragma omp parallel
   {
 #pragma omp for schedule(static)
@@ -248,6 +263,7 @@ void HaloExchange::unpack_and_walls() {
       for (int i = 0; i < w.len; ++i) base[w.dst + i] = w.sign * base[w.src + i];
     }
   }
+  });
 }
 
 void HaloExchange::exchange() {
@@ -266,8 +282,8 @@ void HaloExchange::exchange() {
       const int src = peer_[back] == self_ ? MPI_PROC_NULL : peer_[back];
       if (dest == MPI_PROC_NULL && src == MPI_PROC_NULL) continue;
       // Tag = direction of travel as the sender sees it.
-      MPI_Sendrecv(send_buf_.data() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, dest, d,
-                   recv_buf_.data() + recv_off_[back], static_cast<int>(recv_count_[back]), MPI_DOUBLE, src, d,
+      MPI_Sendrecv(send_buf_.get() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, dest, d,
+                   recv_buf_.get() + recv_off_[back], static_cast<int>(recv_count_[back]), MPI_DOUBLE, src, d,
                    comm_, MPI_STATUS_IGNORE);
     }
   }
@@ -285,7 +301,7 @@ void HaloExchange::begin() {
       if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
       recv_request_[d] = static_cast<int>(requests_.size());
       requests_.emplace_back();
-      MPI_Irecv(recv_buf_.data() + recv_off_[d], static_cast<int>(recv_count_[d]), MPI_DOUBLE, peer_[d],
+      MPI_Irecv(recv_buf_.get() + recv_off_[d], static_cast<int>(recv_count_[d]), MPI_DOUBLE, peer_[d],
                 opposite(d), comm_, &requests_.back());
     }
   }
@@ -298,7 +314,7 @@ void HaloExchange::begin() {
   for (int d = 0; d < kDirs; ++d) {
     if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
     requests_.emplace_back();
-    MPI_Isend(send_buf_.data() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, peer_[d], d, comm_,
+    MPI_Isend(send_buf_.get() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, peer_[d], d, comm_,
               &requests_.back());
   }
 }
@@ -331,14 +347,16 @@ void HaloExchange::finish_across(int axis) {
   }
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
-  double* buf = recv_buf_.data();
+  double* buf = recv_buf_.get();
   const std::size_t nr = recv_runs_.size();
+  compute_stage(kCopiedValue, double(across_doubles_[axis]), [&] {
 #pragma omp parallel for schedule(static)
-  for (std::size_t r = 0; r < nr; ++r) {
-    const Run& run = recv_runs_[r];
-    if (!crosses(run.dir, axis)) continue;
-    copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
-  }
+    for (std::size_t r = 0; r < nr; ++r) {
+      const Run& run = recv_runs_[r];
+      if (!crosses(run.dir, axis)) continue;
+      copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
+    }
+  });
   finished_across_ = axis;
 }
 

@@ -21,6 +21,7 @@
 #include "decomposition.hpp"
 #include "field.hpp"
 #include "region_timers.hpp"
+#include "storage.hpp"
 
 namespace efsi {
 
@@ -110,11 +111,13 @@ class HaloExchange {
   std::vector<Run> send_runs_, recv_runs_;  // remote directions only
   std::vector<SelfRun> self_runs_;
   std::vector<WallRun> wall_zero_, wall_mirror_;
-  std::vector<double> send_buf_, recv_buf_;
+  Storage send_buf_, recv_buf_;
   std::vector<MPI_Request> requests_;
   int recv_request_[kDirs];       // index in requests_ of the receive from each direction, or -1
   int finished_across_ = -1;      // the axis finish_across already unpacked, or -1
   std::size_t mpi_doubles_ = 0, local_doubles_ = 0;
+  std::size_t across_doubles_[3]{};  // received across the faces of each axis (finish_across)
+  std::size_t wall_doubles_ = 0;     // set by the wall rule
   int mpi_messages_ = 0;
   bool in_flight_ = false;
 };

@@ -64,6 +64,11 @@ MpiCensus operator-(const MpiCensus& a, const MpiCensus& b) {
           a.collective_bytes - b.collective_bytes};
 }
 
+MpiCensus operator+(const MpiCensus& a, const MpiCensus& b) {
+  return {a.messages + b.messages, a.bytes + b.bytes, a.collectives + b.collectives,
+          a.collective_bytes + b.collective_bytes};
+}
+
 MpiCensus mpi_census() { return g_census; }
 double mpi_seconds() { return g_seconds; }
 void set_mpi_call_hook(void (*hook)()) { g_hook = hook; }

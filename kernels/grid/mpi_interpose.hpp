@@ -21,6 +21,7 @@ struct MpiCensus {
 };
 
 MpiCensus operator-(const MpiCensus& a, const MpiCensus& b);
+MpiCensus operator+(const MpiCensus& a, const MpiCensus& b);
 
 // This rank's census since MPI_Init.
 MpiCensus mpi_census();

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <string>
 
+#include "compute_model.hpp"
 #include "config_error.hpp"
+#include "kernel_costs.hpp"
 
 namespace efsi {
 
@@ -49,37 +51,51 @@ void CrankNicolsonStress::iterate(const FsiState& state, FsiWork& w, const Physi
   const Int3 n = s.decomp().local();
   const Box owned{{0, 0, 0}, n};
   const Box faces = full_boxes(n).momentum;
+  // The simulation build charges the counted work of each piece (kernel_costs.hpp,
+  // crank_nicolson_cost) instead of running it (compute_model.hpp).
+  const double cells = double(product(n));
   {
     RegionTimers::Scope t(timers_, Region::compute);
-    // Bt^N - dt v^N.grad Bt^N: the explicit transport less its stretching.
-    add_stretching(s, -dt, w.B_new, b_advected_, owned);
-    // v* - c div tau^N: the part of every sweep's update that does not change.
-    add_stress_divergence(s, w.tau, -c, w.vstar, v_explicit_, faces);
+    compute_stage(kStretching + kAddStressDivergence, cells, [&] {
+      // Bt^N - dt v^N.grad Bt^N: the explicit transport less its stretching.
+      add_stretching(s, -dt, w.B_new, b_advected_, owned);
+      // v* - c div tau^N: the part of every sweep's update that does not change.
+      add_stress_divergence(s, w.tau, -c, w.vstar, v_explicit_, faces);
+    });
   }
   for (int m = 0; m < sweeps_; ++m) {
     v_halo_.exchange();
     {
       RegionTimers::Scope t(timers_, Region::compute);
       // tau* from v* and Bt* (Bt^N stretched by the iterate's gradient), with phi^N.
-      stretched_stress_owned(s.with_velocity(w.vstar), ph, dt, b_advected_, w.root_phi, tau_star_);
+      compute_stage(kStretchedStress, cells, [&] {
+        stretched_stress_owned(s.with_velocity(w.vstar), ph, dt, b_advected_, w.root_phi, tau_star_);
+      });
     }
     tau_halo_.exchange();
     RegionTimers::Scope t(timers_, Region::compute);
-    if (m + 1 == sweeps_)  // keep the last iterate to measure the final sweep's change
-      for (int a = 0; a < 3; ++a) v_previous_[a].copy_from(w.vstar[a]);
-    add_stress_divergence(s, tau_star_, c, v_explicit_, w.vstar, faces);
+    const bool last = m + 1 == sweeps_;
+    compute_stage(last ? kAddStressDivergence + kCopyVelocity : kAddStressDivergence, cells, [&] {
+      if (last)  // keep the last iterate to measure the final sweep's change
+        for (int a = 0; a < 3; ++a) v_previous_[a].copy_from(w.vstar[a]);
+      add_stress_divergence(s, tau_star_, c, v_explicit_, w.vstar, faces);
+    });
   }
   {
     RegionTimers::Scope t(timers_, Region::compute);
-    double change = 0.0;
-    for (int a = 0; a < 3; ++a) {
-      const Field &now = w.vstar[a], &before = v_previous_[a];
+    double result = 0.0;  // the lambda reduces its own local (see acm_moments)
+    compute_stage(kVelocityChange, cells, [&] {
+      double change = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const Field &now = w.vstar[a], &before = v_previous_[a];
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : change)
-      for (int k = 0; k < n[Z]; ++k)
-        for (int j = 0; j < n[Y]; ++j)
-          for (int i = 0; i < n[X]; ++i) change = std::max(change, std::fabs(now(i, j, k) - before(i, j, k)));
-    }
-    last_change_ = change;
+        for (int k = 0; k < n[Z]; ++k)
+          for (int j = 0; j < n[Y]; ++j)
+            for (int i = 0; i < n[X]; ++i) change = std::max(change, std::fabs(now(i, j, k) - before(i, j, k)));
+      }
+      result = change;
+    });
+    last_change_ = result;
   }
   v_halo_.exchange();
 }

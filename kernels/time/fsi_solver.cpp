@@ -6,6 +6,9 @@
 #include <limits>
 #include <string>
 
+#include "compute_model.hpp"
+#include "kernel_costs.hpp"
+
 namespace efsi {
 
 FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, const SolverConfig& config,
@@ -143,37 +146,47 @@ FsiSolver::SubstepResult FsiSolver::euler_substep(const IntegratorStage& stage) 
   return {umax, divmax};
 }
 
+// The simulation build charges each stage's counted work per cell of its box (the shells:
+// the full box less the interior) instead of running it (compute_model.hpp).
 void FsiSolver::tendencies(const KernelBoxes& b, bool whole) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
   if (whole && fused_) {
-    fused_->run(s, config_.physics, work_.root_phi, work_.vstar, euler());
+    compute_stage(kStressAndMomentum, double(b.momentum.volume()),
+                  [&] { fused_->run(s, config_.physics, work_.root_phi, work_.vstar, euler()); });
   } else {
-    compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
-    momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum, euler());
+    compute_stage(kStress + kMomentum, double(b.momentum.volume()), [&] {
+      compute_stress(s, config_.physics, work_.root_phi, work_.tau, b.stress_centres, b.stress_edges);
+      momentum_tendency(s, config_.physics, work_.tau, work_.vstar, b.momentum, euler());
+    });
   }
-  transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff, euler());
+  compute_stage(kTransport, double(b.transport.volume()), [&] {
+    transport_tendency(s, work_.phi_new, work_.B_new, b.transport, config_.physics.solid_cutoff, euler());
+  });
 }
 
 void FsiSolver::shell_transport(const KernelBoxes& full, const KernelBoxes& in) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
-  for_each_shell_box(full.transport, in.transport,
-                     [&](const Box& b) {
-                       transport_tendency(s, work_.phi_new, work_.B_new, b, config_.physics.solid_cutoff, euler());
-                     });
+  compute_stage(kTransport, double(full.transport.volume() - in.transport.volume()), [&] {
+    for_each_shell_box(full.transport, in.transport, [&](const Box& b) {
+      transport_tendency(s, work_.phi_new, work_.B_new, b, config_.physics.solid_cutoff, euler());
+    });
+  });
 }
 
 void FsiSolver::shell_stress_and_momentum(const KernelBoxes& full, const KernelBoxes& in) {
   RegionTimers::Scope t(&timers_, Region::compute);
   const FieldSet s = state_.fields();
   const Physics& ph = config_.physics;
-  for_each_shell_box(full.stress_centres, in.stress_centres,
-                     [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, b, Box{}); });
-  for_each_shell_box(full.stress_edges, in.stress_edges,
-                     [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, Box{}, b); });
-  for_each_shell_box(full.momentum, in.momentum,
-                     [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b, euler()); });
+  compute_stage(kStress + kMomentum, double(full.momentum.volume() - in.momentum.volume()), [&] {
+    for_each_shell_box(full.stress_centres, in.stress_centres,
+                       [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, b, Box{}); });
+    for_each_shell_box(full.stress_edges, in.stress_edges,
+                       [&](const Box& b) { compute_stress(s, ph, work_.root_phi, work_.tau, Box{}, b); });
+    for_each_shell_box(full.momentum, in.momentum,
+                       [&](const Box& b) { momentum_tendency(s, ph, work_.tau, work_.vstar, b, euler()); });
+  });
 }
 
 void FsiSolver::blend_with_start(const IntegratorStage& stage) {
@@ -196,17 +209,21 @@ double FsiSolver::compute_divergence() {
   const double ix = rho / d.spacing(X), iy = rho / d.spacing(Y), iz = rho / d.spacing(Z);
   const Field &u = work_.vstar[0], &v = work_.vstar[1], &w = work_.vstar[2];
   Field& div = work_.div;
-  double dmax = 0.0;
+  double result = 0.0;  // the lambda reduces its own local (see acm_moments)
+  compute_stage(kDivergence, double(product(n)), [&] {
+    double dmax = 0.0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : dmax)
-  for (int k = 0; k < n[Z]; ++k)
-    for (int j = 0; j < n[Y]; ++j)
-      for (int i = 0; i < n[X]; ++i) {
-        const double dv = (u(i + 1, j, k) - u(i, j, k)) * ix + (v(i, j + 1, k) - v(i, j, k)) * iy +
-                         (w(i, j, k + 1) - w(i, j, k)) * iz;
-        div(i, j, k) = dv;
-        dmax = std::max(dmax, magnitude(dv));
-      }
-  return dmax;
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i) {
+          const double dv = (u(i + 1, j, k) - u(i, j, k)) * ix + (v(i, j + 1, k) - v(i, j, k)) * iy +
+                           (w(i, j, k + 1) - w(i, j, k)) * iz;
+          div(i, j, k) = dv;
+          dmax = std::max(dmax, magnitude(dv));
+        }
+    result = dmax;
+  });
+  return result;
 }
 
 double FsiSolver::project() {
@@ -218,22 +235,26 @@ double FsiSolver::project() {
   Field& p = state_.p();
   const int wall_lo = decomp_.wall_row_below();
   const double cx = c / d.spacing(X), cy = c / d.spacing(Y), cz = c / d.spacing(Z);
-  double umax = 0.0;
+  double result = 0.0;  // the lambda reduces its own local (see acm_moments)
+  compute_stage(kProject, double(product(n)), [&] {
+    double umax = 0.0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : umax)
-  for (int k = 0; k < n[Z]; ++k)
-    for (int j = 0; j < n[Y]; ++j)
-      for (int i = 0; i < n[X]; ++i) {
-        p(i, j, k) += dp(i, j, k);
-        const double q = dp(i, j, k);
-        const double u = work_.vstar[0](i, j, k) - cx * (q - dp(i - 1, j, k));
-        const double v = j == wall_lo ? 0.0 : work_.vstar[1](i, j, k) - cy * (q - dp(i, j - 1, k));
-        const double w = work_.vstar[2](i, j, k) - cz * (q - dp(i, j, k - 1));
-        state_.vel(X)(i, j, k) = u;
-        state_.vel(Y)(i, j, k) = v;
-        state_.vel(Z)(i, j, k) = w;
-        umax = std::max({umax, magnitude(u), magnitude(v), magnitude(w)});
-      }
-  return umax;
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i) {
+          p(i, j, k) += dp(i, j, k);
+          const double q = dp(i, j, k);
+          const double u = work_.vstar[0](i, j, k) - cx * (q - dp(i - 1, j, k));
+          const double v = j == wall_lo ? 0.0 : work_.vstar[1](i, j, k) - cy * (q - dp(i, j - 1, k));
+          const double w = work_.vstar[2](i, j, k) - cz * (q - dp(i, j, k - 1));
+          state_.vel(X)(i, j, k) = u;
+          state_.vel(Y)(i, j, k) = v;
+          state_.vel(Z)(i, j, k) = w;
+          umax = std::max({umax, magnitude(u), magnitude(v), magnitude(w)});
+        }
+    result = umax;
+  });
+  return result;
 }
 
 void FsiSolver::check_blow_up(double local_umax, double local_divmax) {

@@ -1,13 +1,18 @@
 #!/usr/bin/env python3
 """The simulation build (the `simgrid` preset, build-simgrid/): weak_scaling compiled with
-SimGrid's smpicxx runs as simulated ranks under smpirun (harness/simgrid/run.sh).
+SimGrid's smpicxx runs as simulated ranks under smpirun (harness/simgrid/run.sh), its
+stages charging their counted work instead of running (kernels/grid/compute_model.hpp).
 
-- 2 and 8 simulated ranks of 32^3 each finish, pass their validation and append one CSV row
-  that names SMPI as the MPI library and the rank grid of the real build;
+- 8 and 64 simulated ranks of small blocks, ACM and SOR (sync and async), send the very
+  messages the real build sends: the CSV's mpi_messages_per_step and mpi_bytes_per_step
+  equal those of the same run of the real build (bin-dir), and the rank grid is the same;
+- the simulated row names its platform (`simulated`) and SMPI (`mpi`);
+- the modelled compute follows the platform: a core twice as fast halves the compute time
+  of a one-rank step (the model's t = max(flops / F, bytes / B) / e);
 - what the simulation build leaves out (parallel HDF5: checkpoints, snapshots, restarts) is
-  refused in one line with exit status 2 before the run, nothing written.
+  refused in one line before the run, nothing written.
 
-    test_simulation_build.py --sim-bin-dir BUILD-SIMGRID/bin --source-dir DIR
+    test_simulation_build.py --sim-bin-dir BUILD-SIMGRID/bin --bin-dir BUILD/bin --source-dir DIR
 """
 
 import argparse
@@ -21,6 +26,26 @@ import unittest
 
 ARGS = None
 LOCAL = ["--local", "32", "--particles-per-rank", "0", "--steps", "2"]
+PLATFORM = """<?xml version='1.0'?>
+<!DOCTYPE platform SYSTEM "https://simgrid.org/simgrid.dtd">
+<platform version="4.1">
+  <zone id="test" routing="Full">
+    <host id="node-0" speed="%dGf" core="2">
+      <prop id="platform" value="test"/>
+      <prop id="memory_bandwidth" value="%g"/>
+    </host>
+  </zone>
+</platform>
+"""
+# (ranks, cells per rank, method options): the census cases.  64 ranks of 8^3 is the 4 x 4 x 4
+# grid of the many-rank test.
+CENSUS = [
+    (8, 16, ["--method", "acm"]),
+    (8, 16, ["--method", "acm", "--comm", "async"]),
+    (8, 16, ["--method", "sor", "--comm", "async", "--ns", "3", "--nc", "2"]),
+    (64, 8, ["--method", "acm"]),
+    (64, 8, ["--method", "sor", "--ns", "2", "--nc", "1"]),
+]
 
 
 class SimulationBuild(unittest.TestCase):
@@ -31,26 +56,59 @@ class SimulationBuild(unittest.TestCase):
         if not os.access(self.driver, os.X_OK):
             self.fail(f"no simulation build at {self.driver}: cmake --preset simgrid && cmake --build --preset simgrid")
 
-    def run_sim(self, ranks, *args):
+    def run_sim(self, ranks, *args, platform=None):
         run_sh = os.path.join(ARGS.source_dir, "harness", "simgrid", "run.sh")
-        platform = os.path.join(ARGS.source_dir, "harness", "simgrid", "platforms", "dev-2core.xml")
+        platform = platform or os.path.join(ARGS.source_dir, "harness", "simgrid", "platforms", "dev-2core.xml")
         # One node: the 8-rank run shares its 2 cores, as the oversubscribed real tests do.
         return subprocess.run(["bash", run_sh, platform, str(ranks), str(ranks), self.driver, *args], cwd=self.dir,
                               capture_output=True, text=True, timeout=300)
 
-    def test_runs_and_records_a_row(self):
-        for ranks, grid in ((2, ("1", "2", "1")), (8, ("2", "2", "2"))):
-            with self.subTest(ranks=ranks):
-                r = self.run_sim(ranks, *LOCAL, "--csv", "sim.csv")
-                self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
-                self.assertIn(f"weak_scaling: acm, sync halo, {ranks} ranks as", r.stdout)
-                self.assertRegex(r.stdout, r"validation: .*: PASSED")
-                with open(os.path.join(self.dir, "sim.csv")) as f:
-                    row = list(csv.DictReader(f))[-1]
-                self.assertEqual((row["ranks"], row["px"], row["py"], row["pz"]), (str(ranks), *grid))
-                self.assertTrue(row["mpi"].startswith("SMPI"), row["mpi"])
-                # The node's ranks against this machine's 2 cores, as in the real build.
-                self.assertEqual((row["oversubscribed"], row["valid"]), ("1", "0") if ranks > 2 else ("0", "1"))
+    def row(self, path):
+        with open(path) as f:
+            return list(csv.DictReader(f))[-1]
+
+    def run_real(self, ranks, *args):
+        env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+                   OMPI_MCA_rmaps_base_oversubscribe="1", OMPI_MCA_btl_vader_single_copy_mechanism="none",
+                   OMP_NUM_THREADS="1")
+        cmd = [os.environ.get("EFSI_MPIEXEC", "mpiexec"), "-q", "-n", str(ranks),
+               os.path.join(ARGS.bin_dir, "weak_scaling"), *args]
+        return subprocess.run(cmd, cwd=self.dir, capture_output=True, text=True, timeout=300, env=env)
+
+    def test_census_is_the_real_builds(self):
+        for ranks, local, method in CENSUS:
+            with self.subTest(ranks=ranks, method=" ".join(method)):
+                args = ["--local", str(local), "--particles-per-rank", "0", "--steps", "2", *method]
+                real = self.run_real(ranks, *args, "--csv", "real.csv")
+                self.assertEqual(real.returncode, 0, real.stdout + real.stderr)
+                sim = self.run_sim(ranks, *args, "--csv", "sim.csv")
+                self.assertEqual(sim.returncode, 0, sim.stdout + sim.stderr)
+                r, s = self.row(os.path.join(self.dir, "real.csv")), self.row(os.path.join(self.dir, "sim.csv"))
+                for col in ("ranks", "px", "py", "pz", "mpi_messages_per_step", "mpi_bytes_per_step"):
+                    self.assertEqual(s[col], r[col], col)
+                self.assertGreater(float(s["mpi_messages_per_step"]), 0)
+                self.assertEqual((r["simulated"], s["simulated"]), ("", "dev-2core"))
+                self.assertTrue(s["mpi"].startswith("SMPI"), s["mpi"])
+                self.assertIn("validation: not run (simulated on dev-2core", sim.stdout)
+
+    def test_compute_follows_the_platform(self):
+        # t = max(flops / F, bytes / B) per stage.  With memory that costs nothing every
+        # stage is bound by its flops: twice the core's speed halves the compute time, and
+        # it is the step's counted flops (about 2200 a cell for ACM) over F.  With memory
+        # slower than the core, the stages that move more bytes than they compute take longer.
+        def compute_s(gflops, bandwidth):
+            platform = os.path.join(self.dir, "node.xml")
+            with open(platform, "w") as f:
+                f.write(PLATFORM % (gflops, bandwidth))
+            r = self.run_sim(1, *LOCAL, "--csv", "one.csv", platform=platform)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            return float(self.row(os.path.join(self.dir, "one.csv"))["compute_s"]) / 2  # a step
+
+        slow, fast = compute_s(1, 1e15), compute_s(2, 1e15)
+        self.assertAlmostEqual(fast / slow, 0.5, delta=1e-6)
+        self.assertGreater(slow, 32**3 * 2000 / 1e9)
+        self.assertLess(slow, 32**3 * 2400 / 1e9)
+        self.assertGreater(compute_s(1, 1e9), 1.02 * slow)
 
     def test_state_files_are_refused_before_the_run(self):
         for option in (["--checkpoint", "ck.h5"], ["--snapshot-every", "1"], ["--restart", "ck.h5"]):
@@ -67,7 +125,9 @@ class SimulationBuild(unittest.TestCase):
 if __name__ == "__main__":
     ap = argparse.ArgumentParser()
     ap.add_argument("--sim-bin-dir", required=True)
+    ap.add_argument("--bin-dir", required=True)
     ap.add_argument("--source-dir", required=True)
     ARGS, rest = ap.parse_known_args()
-    ARGS.sim_bin_dir, ARGS.source_dir = os.path.abspath(ARGS.sim_bin_dir), os.path.abspath(ARGS.source_dir)
+    ARGS.sim_bin_dir, ARGS.bin_dir, ARGS.source_dir = (os.path.abspath(p) for p in
+                                                       (ARGS.sim_bin_dir, ARGS.bin_dir, ARGS.source_dir))
     unittest.main(argv=[sys.argv[0], *rest], verbosity=2)

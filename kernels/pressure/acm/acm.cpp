@@ -2,6 +2,9 @@
 
 #include <cmath>
 
+#include "acm_work.hpp"
+#include "compute_model.hpp"
+
 namespace efsi {
 
 AcmCoefficients acm_coefficients(const AcmMoments& m) {
@@ -36,21 +39,25 @@ AcmMoments acm_moments(const Field& div, const Field& p, const Domain& domain, M
   double s[7] = {0, 0, 0, 0, 0, 0, 0};
   {
     RegionTimers::Scope t(&timers, Region::compute);
-    double a1 = 0, a2 = 0, a3 = 0, b1 = 0, b2 = 0, sp = 0, sd = 0;
+    // The sums are the lambda's own locals: a reduction over captured references costs
+    // a load and a store through the closure per term (counted gate: +4% instructions).
+    compute_stage(kAcmMoments, double(product(n)), [&] {
+      double a1 = 0, a2 = 0, a3 = 0, b1 = 0, b2 = 0, sp = 0, sd = 0;
 #pragma omp parallel for collapse(2) schedule(static) reduction(+ : a1, a2, a3, b1, b2, sp, sd)
-    for (int k = 0; k < n[Z]; ++k)
-      for (int j = 0; j < n[Y]; ++j)
-        for (int i = 0; i < n[X]; ++i) {
-          const double d = div(i, j, k), ld = laplacian(div, inv_h2, i, j, k), lp = laplacian(p, inv_h2, i, j, k);
-          a1 -= d * ld;
-          a2 += ld * ld;
-          a3 += lp * lp;
-          b1 += d * lp;
-          b2 += ld * lp;
-          sp += p(i, j, k);
-          sd += d;
-        }
-    s[0] = a1, s[1] = a2, s[2] = a3, s[3] = b1, s[4] = b2, s[5] = sp, s[6] = sd;
+      for (int k = 0; k < n[Z]; ++k)
+        for (int j = 0; j < n[Y]; ++j)
+          for (int i = 0; i < n[X]; ++i) {
+            const double d = div(i, j, k), ld = laplacian(div, inv_h2, i, j, k), lp = laplacian(p, inv_h2, i, j, k);
+            a1 -= d * ld;
+            a2 += ld * ld;
+            a3 += lp * lp;
+            b1 += d * lp;
+            b2 += ld * lp;
+            sp += p(i, j, k);
+            sd += d;
+          }
+      s[0] = a1, s[1] = a2, s[2] = a3, s[3] = b1, s[4] = b2, s[5] = sp, s[6] = sd;
+    });
   }
   double g[7];
   {
@@ -80,17 +87,19 @@ void AcmPressure::increment(PressureInputs& in) {
   const Int3 n = dp.n();
   RegionTimers::Scope t(&in.timers, Region::compute);
   auto set = [&](int i, int j, int k) { dp(i, j, k) = -(b * p(i, j, k) + a * div(i, j, k)) / dt - shift; };
+  compute_stage(kAcmUpdate, double(product(n)), [&] {
 #pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < n[Z]; ++k)
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j)
+        for (int i = 0; i < n[X]; ++i) set(i, j, k);
+    // The low face ghosts, read by grad dp on the owned faces: p and D* are valid there.
+    for (int k = 0; k < n[Z]; ++k)
+      for (int j = 0; j < n[Y]; ++j) set(-1, j, k);
+    for (int k = 0; k < n[Z]; ++k)
+      for (int i = 0; i < n[X]; ++i) set(i, -1, k);
     for (int j = 0; j < n[Y]; ++j)
-      for (int i = 0; i < n[X]; ++i) set(i, j, k);
-  // The low face ghosts, read by grad dp on the owned faces: p and D* are valid there.
-  for (int k = 0; k < n[Z]; ++k)
-    for (int j = 0; j < n[Y]; ++j) set(-1, j, k);
-  for (int k = 0; k < n[Z]; ++k)
-    for (int i = 0; i < n[X]; ++i) set(i, -1, k);
-  for (int j = 0; j < n[Y]; ++j)
-    for (int i = 0; i < n[X]; ++i) set(i, j, -1);
+      for (int i = 0; i < n[X]; ++i) set(i, j, -1);
+  });
 }
 
 }  // namespace efsi

@@ -2,7 +2,9 @@
 
 #include <string>
 
+#include "compute_model.hpp"
 #include "config_error.hpp"
+#include "sor_work.hpp"
 
 namespace efsi {
 
@@ -24,7 +26,7 @@ void SmacSorPressure::attach(const CartDecomposition& decomp, const Domain& doma
 void SmacSorPressure::increment(PressureInputs& in) {
   {
     RegionTimers::Scope t(&in.timers, kSorSweepsRegion);
-    in.work.dp.fill(0.0);
+    compute_stage(kFill, double(product(in.work.dp.n())), [&] { in.work.dp.fill(0.0); });
   }
   // The sweeps leave dp's ghosts current, the low face ghosts included.
   sor_->sweeps(in.work.div, sweeps_, 1.0 / in.dt);

@@ -4,9 +4,10 @@
 #include <stdexcept>
 #include <string>
 
+#include "compute_model.hpp"
+#include "config_error.hpp"
 #include "laplacian.hpp"
 #include "sor_work.hpp"
-#include "config_error.hpp"
 
 namespace efsi {
 
@@ -103,13 +104,15 @@ struct SorStencil {
 
 void SorPoisson::update(const Field& rhs, double factor, const Stage& stage, const Box& b) {
   if (b.empty()) return;
-  if (stage.pair) {
-    if (b.lo[X] != 0 || b.hi[X] != x_.n()[X])
-      throw std::logic_error("SorPoisson: a fused colour pair needs rows spanning the whole x extent");
-    return update_rows<true>(rhs, factor, stage.colour, b);
-  }
-  if (b.hi[X] - b.lo[X] <= 2) return update_columns(rhs, factor, stage.colour, b);
-  update_rows<false>(rhs, factor, stage.colour, b);
+  if (stage.pair && (b.lo[X] != 0 || b.hi[X] != x_.n()[X]))
+    throw std::logic_error("SorPoisson: a fused colour pair needs rows spanning the whole x extent");
+  // One pass of the sweep's passes: its share of the sweep's counted work (sor_work.hpp).
+  const double passes = static_cast<double>(stages_.size());
+  compute_stage((1.0 / passes) * sor_sweep_cost(static_cast<int>(passes)), double(b.volume()), [&] {
+    if (stage.pair) update_rows<true>(rhs, factor, stage.colour, b);
+    else if (b.hi[X] - b.lo[X] <= 2) update_columns(rhs, factor, stage.colour, b);
+    else update_rows<false>(rhs, factor, stage.colour, b);
+  });
 }
 
 template <bool kPair>

@@ -1,12 +1,12 @@
 #pragma once
 // Bytes and flops per owned cell of the kernels bench_kernels times, counted from the code,
-// under the conventions of kernels/pressure/spec/work_count.hpp.  The pressure methods'
+// under the conventions of kernels/grid/work_count.hpp.  The pressure methods'
 // own kernels are counted in their folders (acm_work.hpp, sor_work.hpp, fft_work.hpp).
 #include <cmath>
 
 #include "work_count.hpp"
 
-namespace efsi::bench {
+namespace efsi {
 
 // compute_stress (fsi_equations.cpp solid_root and stress_component, constitutive.hpp):
 //   solid_root: reads phi, writes sqrt(max(phi, 0)) once per centre: 16 B, 1 flop (sqrt);
@@ -87,13 +87,18 @@ inline constexpr PerCell kDivergence{32, 8};
 //   p += dp 1, each velocity u* - c (dp - dp_low) 3: 10 flops.
 inline constexpr PerCell kProject{72, 10};
 
+// The Crank-Nicolson iteration's last sweep keeps a copy of v* (reads 3, writes 3: 48 B),
+// and the change of that sweep is a max over the 6 arrays (48 B, 3 subs).
+inline constexpr PerCell kCopyVelocity{48, 0};
+inline constexpr PerCell kVelocityChange{48, 3};
+
 // CrankNicolsonStress::iterate with nc sweeps (crank_nicolson.cpp), halos apart:
 //   before: add_stretching(-dt) (kStretching), v* - c div tau^N (kAddStressDivergence);
 //   per sweep: stretched_stress_owned, v* = that base + c div tau* (kAddStressDivergence);
-//   the last sweep copies v* (48 B); after: the change max over 6 arrays (48 B, 3 subs).
+//   the last sweep copies v*; after: the change.
 inline constexpr PerCell crank_nicolson_cost(int nc) {
-  return PerCell{48 + 48, 3} + kStretching + kAddStressDivergence +
+  return kCopyVelocity + kVelocityChange + kStretching + kAddStressDivergence +
          nc * (kStretchedStress + kAddStressDivergence);
 }
 
-}  // namespace efsi::bench
+}  // namespace efsi

@@ -1,7 +1,9 @@
 #pragma once
 // Bytes and flops per owned cell of a kernel, counted from its code: the benchmarks
-// (harness/microbench/kernel_costs.hpp) turn them into GB/s, GFLOP/s and fractions of the
-// machine's roofs.  Each pressure method counts its own increment (method_spec.hpp).
+// (harness/microbench) turn them into GB/s, GFLOP/s and fractions of the machine's roofs,
+// and the simulation build charges them as a stage's time (compute_model.hpp).  The
+// physics kernels are counted in kernels/physics/kernel_costs.hpp; each pressure method
+// counts its own increment (method_spec.hpp).
 //
 // Conventions (the same for every kernel):
 //   bytes  what the kernel must move between memory and the core: every array it reads

@@ -1,0 +1,137 @@
+#!/usr/bin/env python3
+"""Fits a platform's compute efficiency per method on one measured point per method.
+
+The simulation build charges each stage t = max(flops / F, bytes / B_rank) / e
+(kernels/grid/compute_model.hpp).  On one rank no message leaves the rank, so the simulated
+time of a run is A / e, with A its time at e = 1: one run at e = 1 and the reference time T
+give e = A / T.  The fitted e is written into the platform as the host property
+efficiency:METHOD (--write) and every later simulation on that platform uses it.
+
+  calibrate.py --platform harness/simgrid/platforms/ricc.xml --sim-bin-dir build-simgrid/bin \\
+               --reference paper [--write]
+
+--reference paper: the paper's one-core times of Table 2 (results/paper/paper_tables.csv):
+ACM (50 steps, sync) and SOR at 1e-3, sync (10 steps, the paper's N_S 100 and N_C 20).
+--reference CSV: the rows of a measured weak-scaling CSV with ranks = 1, one per method
+(this machine's: the dev-2core platform).  Prints one line per method.  Standard library
+only; Debian's /usr/bin/python3.
+"""
+
+import argparse
+import csv
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+PAPER = os.path.join(ROOT, "results", "paper", "paper_tables.csv")
+PROG = "calibrate.py"
+
+
+class Error(Exception):
+    pass
+
+
+def paper_points():
+    """(method, weak_scaling options, seconds) of Table 2 at one core: ACM and SOR 1e-3 sync."""
+    with open(PAPER, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["table"] == "2" and r["cores"] == "1" and r["comm"] == "sync"]
+    points = []
+    for r in rows:
+        steps = int(r["steps"])
+        if r["method"] == "acm":
+            points.append(("acm", ["--method", "acm", "--steps", str(steps)], float(r["elapsed_s"])))
+        elif r["method"] == "sor" and r["eps"] == "1e-3":
+            ns, nc = int(r["n_sor_total"]) // steps, int(r["n_cn_total"]) // steps
+            points.append(("sor", ["--method", "sor", "--comm", "sync", "--ns", str(ns), "--nc", str(nc),
+                                   "--steps", str(steps)], float(r["elapsed_s"])))
+    if {p[0] for p in points} != {"acm", "sor"}:
+        raise Error(f"{PAPER}: no one-core sync rows of Table 2 for both acm and sor (sor at 1e-3)")
+    return points
+
+
+def measured_points(path):
+    """(method, options, seconds): one-rank weak-scaling rows of a measured CSV, the first per method."""
+    points, seen = [], set()
+    with open(path, newline="") as f:
+        for r in csv.DictReader(f):
+            if r.get("experiment") != "weak" or r.get("ranks") != "1" or r.get("simulated") or r["method"] in seen:
+                continue
+            seen.add(r["method"])
+            opts = ["--method", r["method"], "--comm", r["comm"], "--steps", r["steps"],
+                    "--local", str(int(r["nx"]))]
+            if r["ns_per_step"]:
+                opts += ["--ns", r["ns_per_step"]]
+            if r["nc_per_step"]:
+                opts += ["--nc", r["nc_per_step"]]
+            points.append((r["method"], opts, float(r["elapsed_s"])))
+    if not points:
+        raise Error(f"{path}: no measured one-rank weak-scaling row")
+    return points
+
+
+def without_efficiency(xml, method):
+    return re.sub(r'\s*<prop id="efficiency:%s" value="[^"]*"/>' % re.escape(method), "", xml)
+
+
+def with_efficiency(xml, method, e):
+    xml = without_efficiency(xml, method)
+    prop = '<prop id="memory_bandwidth"'
+    at = xml.find(prop)
+    if at < 0:
+        raise Error("the platform has no memory_bandwidth property to place the efficiency beside")
+    indent = xml[xml.rfind("\n", 0, at) + 1:at]
+    return xml[:at] + f'<prop id="efficiency:{method}" value="{e:.6g}"/>\n' + indent + xml[at:]
+
+
+def simulate(sim_bin_dir, platform_xml, opts, work):
+    platform = os.path.join(work, "platform.xml")
+    with open(platform, "w") as f:
+        f.write(platform_xml)
+    out = os.path.join(work, "one.csv")
+    if os.path.exists(out):
+        os.remove(out)
+    cmd = ["bash", os.path.join(HERE, "run.sh"), platform, "1", "1", os.path.join(sim_bin_dir, "weak_scaling"),
+           *opts, "--csv", out]
+    r = subprocess.run(cmd, cwd=work, capture_output=True, text=True)
+    if r.returncode != 0:
+        raise Error("simulation failed: " + " ".join(cmd) + "\n" + r.stdout + r.stderr)
+    with open(out, newline="") as f:
+        return float(list(csv.DictReader(f))[-1]["elapsed_s"])
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
+    ap.add_argument("--platform", required=True)
+    ap.add_argument("--sim-bin-dir", required=True)
+    ap.add_argument("--reference", required=True, help="'paper' or a measured weak-scaling CSV")
+    ap.add_argument("--write", action="store_true", help="write the efficiencies into the platform file")
+    args = ap.parse_args(argv)
+    args.sim_bin_dir = os.path.abspath(args.sim_bin_dir)
+    try:
+        with open(args.platform) as f:
+            xml = f.read()
+        points = paper_points() if args.reference == "paper" else measured_points(args.reference)
+        fitted = xml
+        with tempfile.TemporaryDirectory(prefix="efsi-calibrate-") as work:
+            for method, opts, seconds in points:
+                at_one = simulate(args.sim_bin_dir, without_efficiency(xml, method), opts, work)
+                e = at_one / seconds
+                fitted = with_efficiency(fitted, method, e)
+                print(f"{method}: {' '.join(opts)}: reference {seconds:.4g} s, simulated at e = 1 {at_one:.4g} s, "
+                      f"efficiency {e:.4g}")
+        if args.write:
+            with open(args.platform, "w") as f:
+                f.write(fitted)
+            print(f"wrote the efficiencies into {args.platform}")
+    except (Error, OSError) as e:
+        print(f"{PROG}: error: {e}", file=sys.stderr)
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,78 @@
+#include "compute_model.hpp"
+
+#include <mpi.h>
+
+#include <algorithm>
+#include <cstdlib>
+
+#include "config_error.hpp"
+
+#ifdef EFSI_SIMGRID
+#include <simgrid/host.h>
+#include <smpi/smpi.h>
+#endif
+
+namespace efsi {
+namespace {
+
+NodeModel g_model;
+
+}  // namespace
+
+const NodeModel& node_model() { return g_model; }
+
+#ifdef EFSI_SIMGRID
+
+namespace {
+
+double host_property(const char* name, double fallback) {
+  const char* v = sg_host_get_property_value(sg_host_self(), name);
+  if (!v) return fallback;
+  char* end = nullptr;
+  const double x = std::strtod(v, &end);
+  if (end == v || *end != '\0' || !(x > 0))
+    throw ConfigError(std::string("platform host ") + sg_host_self_get_name() + ": property " + name + " = '" + v +
+                      "' is not a positive number");
+  return x;
+}
+
+}  // namespace
+
+void init_compute_model() {
+  g_model.host = sg_host_self_get_name();
+  const char* platform = sg_host_get_property_value(sg_host_self(), "platform");
+  g_model.platform = platform ? platform : g_model.host;
+  g_model.core_flops = sg_host_get_speed(sg_host_self());
+  g_model.node_bandwidth = host_property("memory_bandwidth", 0.0);
+  MPI_Comm node;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  MPI_Comm_size(node, &g_model.ranks_on_node);
+  MPI_Comm_free(&node);
+  int missing = g_model.node_bandwidth > 0 ? 0 : 1, any = 0;
+  MPI_Allreduce(&missing, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
+  if (any)
+    throw ConfigError("platform host " + g_model.host +
+                      " has no property memory_bandwidth (B/s of the node): the compute model needs it");
+  g_model.efficiency = 1.0;
+}
+
+void use_efficiency_of(const std::string& method) {
+  g_model.efficiency = host_property(("efficiency:" + method).c_str(), 1.0);
+}
+
+void charge_compute(PerCell cost, double cells) {
+  const double F = g_model.core_flops;
+  const double by_bytes = cost.bytes * cells * F * g_model.ranks_on_node / g_model.node_bandwidth;
+  const double flops = std::max(cost.flops * cells, by_bytes) / g_model.efficiency;
+  if (flops > 0) smpi_execute_flops(flops);
+}
+
+#else
+
+void init_compute_model() {}
+void use_efficiency_of(const std::string&) {}
+void charge_compute(PerCell, double) {}
+
+#endif
+
+}  // namespace efsi

@@ -1,0 +1,49 @@
+#pragma once
+// The simulation build's compute model (harness/simgrid/README.md).  A stage's loops do not
+// run there: the stage charges the time a modelled core takes for the work counted from its
+// code (work_count.hpp), while the halo exchanges, reductions and transposes around it run
+// through the project's own code under SMPI, with their real sizes and counts.  The model
+// is a roofline per rank, over the efficiency calibrated for the run's method:
+//
+//   t = max(flops / F, bytes / (B / ranks on the node)) / e
+//
+// F: the platform host's speed (one core, flop/s); B: the host's property memory_bandwidth
+// (B/s, the whole node); e: the host's property efficiency:<method>, 1 when absent.  In the
+// real build the loops run and nothing is charged.  The platform files and their
+// calibration: harness/simgrid/README.md.
+#include <string>
+
+#include "simulation.hpp"
+#include "work_count.hpp"
+
+namespace efsi {
+
+// What the model charges with; all zero in the real build.
+struct NodeModel {
+  std::string platform;      // the host's property platform (the CSV's `simulated`), else its name
+  std::string host;          // the platform host this rank runs on
+  double core_flops = 0;     // F
+  double node_bandwidth = 0; // B
+  int ranks_on_node = 0;
+  double efficiency = 0;     // e, for the method chosen last
+};
+
+// Collective over MPI_COMM_WORLD in the simulation build (the ranks on each node); reads the
+// host's speed and bandwidth, and refuses (ConfigError) a host without memory_bandwidth.
+// Nothing in the real build.  Runtime calls it after MPI_Init.
+void init_compute_model();
+// Takes the efficiency of `method` from the host (efficiency:<method>; 1 when absent).
+void use_efficiency_of(const std::string& method);
+const NodeModel& node_model();
+
+// Charges `cells` cells of `cost` as this rank's compute time (simulation build only).
+void charge_compute(PerCell cost, double cells);
+
+// A stage's loops in the real build; their modelled time in the simulation build.
+template <class Loops>
+inline void compute_stage(PerCell cost, double cells, Loops&& loops) {
+  if constexpr (kSimulated) charge_compute(cost, cells);
+  else loops();
+}
+
+}  // namespace efsi
