@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <limits>
 
 #include "config_error.hpp"
 
@@ -44,6 +45,7 @@ void init_compute_model() {
   g_model.platform = platform ? platform : g_model.host;
   g_model.core_flops = sg_host_get_speed(sg_host_self());
   g_model.node_bandwidth = host_property("memory_bandwidth", 0.0);
+  g_model.core_bandwidth = host_property("core_bandwidth", std::numeric_limits<double>::infinity());
   MPI_Comm node;
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
   MPI_Comm_size(node, &g_model.ranks_on_node);
@@ -62,7 +64,8 @@ void use_efficiency_of(const std::string& method) {
 
 void charge_compute(PerCell cost, double cells) {
   const double F = g_model.core_flops;
-  const double by_bytes = cost.bytes * cells * F * g_model.ranks_on_node / g_model.node_bandwidth;
+  const double share = std::min(g_model.core_bandwidth, g_model.node_bandwidth / g_model.ranks_on_node);
+  const double by_bytes = cost.bytes * cells * F / share;
   const double flops = std::max(cost.flops * cells, by_bytes) / g_model.efficiency;
   if (flops > 0) smpi_execute_flops(flops);
 }

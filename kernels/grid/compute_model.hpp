@@ -5,10 +5,12 @@
 // through the project's own code under SMPI, with their real sizes and counts.  The model
 // is a roofline per rank, over the efficiency calibrated for the run's method:
 //
-//   t = max(flops / F, bytes / (B / ranks on the node)) / e
+//   t = max(flops / F, bytes / min(C, B / ranks on the node)) / e
 //
 // F: the platform host's speed (one core, flop/s); B: the host's property memory_bandwidth
-// (B/s, the whole node); e: the host's property efficiency:<method>, 1 when absent.  In the
+// (B/s, the whole node); C: its property core_bandwidth (B/s one core draws alone: a core
+// reaches a fraction of its node's bandwidth; unlimited when absent); e: the host's property
+// efficiency:<method>, 1 when absent.  In the
 // real build the loops run and nothing is charged.  The platform files and their
 // calibration: harness/simgrid/README.md.
 #include <string>
@@ -24,6 +26,7 @@ struct NodeModel {
   std::string host;          // the platform host this rank runs on
   double core_flops = 0;     // F
   double node_bandwidth = 0; // B
+  double core_bandwidth = 0; // C
   int ranks_on_node = 0;
   double efficiency = 0;     // e, for the method chosen last
 };

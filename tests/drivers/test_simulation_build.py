@@ -32,7 +32,7 @@ PLATFORM = """<?xml version='1.0'?>
   <zone id="test" routing="Full">
     <host id="node-0" speed="%dGf" core="2">
       <prop id="platform" value="test"/>
-      <prop id="memory_bandwidth" value="%g"/>
+      <prop id="memory_bandwidth" value="%g"/>%s
     </host>
   </zone>
 </platform>
@@ -92,14 +92,15 @@ class SimulationBuild(unittest.TestCase):
                 self.assertIn("validation: not run (simulated on dev-2core", sim.stdout)
 
     def test_compute_follows_the_platform(self):
-        # t = max(flops / F, bytes / B) per stage.  With memory that costs nothing every
+        # t = max(flops / F, bytes / min(C, B)) per stage (one rank on the node).  With memory that costs nothing every
         # stage is bound by its flops: twice the core's speed halves the compute time, and
         # it is the step's counted flops (about 2200 a cell for ACM) over F.  With memory
         # slower than the core, the stages that move more bytes than they compute take longer.
-        def compute_s(gflops, bandwidth):
+        def compute_s(gflops, bandwidth, core_bandwidth=None):
             platform = os.path.join(self.dir, "node.xml")
+            core = f'\n      <prop id="core_bandwidth" value="{core_bandwidth:g}"/>' if core_bandwidth else ""
             with open(platform, "w") as f:
-                f.write(PLATFORM % (gflops, bandwidth))
+                f.write(PLATFORM % (gflops, bandwidth, core))
             r = self.run_sim(1, *LOCAL, "--csv", "one.csv", platform=platform)
             self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
             return float(self.row(os.path.join(self.dir, "one.csv"))["compute_s"]) / 2  # a step
@@ -109,6 +110,8 @@ class SimulationBuild(unittest.TestCase):
         self.assertGreater(slow, 32**3 * 2000 / 1e9)
         self.assertLess(slow, 32**3 * 2400 / 1e9)
         self.assertGreater(compute_s(1, 1e9), 1.02 * slow)
+        # A core that draws less than its node offers is held to its own rate.
+        self.assertAlmostEqual(compute_s(1, 1e15, core_bandwidth=1e9), compute_s(1, 1e9), delta=1e-9)
 
     def test_state_files_are_refused_before_the_run(self):
         for option in (["--checkpoint", "ck.h5"], ["--snapshot-every", "1"], ["--restart", "ck.h5"]):
