@@ -9,6 +9,8 @@
 #include <cstring>
 #include <vector>
 
+#include "compute_model.hpp"
+
 namespace efsi {
 namespace {
 
@@ -135,7 +137,8 @@ void node_checks(MPI_Comm comm, const cpu_set_t& mine, int threads, HybridLayout
   for (int c = 0; c < CPU_SETSIZE; ++c) mine_count[c] = CPU_ISSET(c, &mine) ? 1 : 0;
   MPI_Allreduce(mine_count.data(), on_node.data(), CPU_SETSIZE, MPI_INT, MPI_SUM, node);
   MPI_Comm_free(&node);
-  const long cores = sysconf(_SC_NPROCESSORS_ONLN);
+  // A simulated node has the platform host's cores, not this machine's.
+  const long cores = kSimulated ? node_model().cores_on_node : sysconf(_SC_NPROCESSORS_ONLN);
   int flags[2] = {long(local) * threads > cores ? 1 : 0,
                   std::any_of(on_node.begin(), on_node.end(), [](int n) { return n > 1; }) ? 1 : 0};
   MPI_Allreduce(MPI_IN_PLACE, flags, 2, MPI_INT, MPI_MAX, comm);
@@ -154,6 +157,11 @@ HybridLayout hybrid_layout(MPI_Comm comm, int threads) {
   cpu_set_t mine;
   const bool readable = my_cores(mine);
   node_checks(comm, mine, threads, h);
+  if (kSimulated) {  // every simulated rank runs in this one process: its mask says nothing
+    h.cores = "simulated";
+    h.cores_shared = false;
+    return h;
+  }
   h.cores = binding_summary(comm, mine, readable);
   int len = static_cast<int>(h.cores.size());
   MPI_Bcast(&len, 1, MPI_INT, 0, comm);

@@ -18,9 +18,11 @@ struct HybridLayout {
   // the first rank that has it: ranges joined by '+', the count after '*', entries by '/';
   // e.g. "0*1/1*1" (two ranks, one core each) or "0-1*64" (64 ranks on both cores).  At
   // most kMaxBindings entries, then "other*N" for the ranks left.  No commas: CSV-safe.
+  // "simulated" in the simulation build, whose ranks all run in one process.
   std::string cores;
   bool cores_shared = false;       // two ranks on one node may run on a common core
-  bool oversubscribed = false;     // some node runs more threads than it has cores
+  bool oversubscribed = false;     // some node runs more threads than it has cores (simulated:
+                                   // the platform host's cores)
 };
 
 inline constexpr int kMaxBindings = 16;

@@ -44,6 +44,7 @@ void init_compute_model() {
   const char* platform = sg_host_get_property_value(sg_host_self(), "platform");
   g_model.platform = platform ? platform : g_model.host;
   g_model.core_flops = sg_host_get_speed(sg_host_self());
+  g_model.cores_on_node = sg_host_core_count(sg_host_self());
   g_model.node_bandwidth = host_property("memory_bandwidth", 0.0);
   g_model.core_bandwidth = host_property("core_bandwidth", std::numeric_limits<double>::infinity());
   MPI_Comm node;

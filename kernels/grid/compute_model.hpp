@@ -28,6 +28,7 @@ struct NodeModel {
   double node_bandwidth = 0; // B
   double core_bandwidth = 0; // C
   int ranks_on_node = 0;
+  int cores_on_node = 0;     // the host's core count
   double efficiency = 0;     // e, for the method chosen last
 };
 

@@ -89,6 +89,8 @@ class SimulationBuild(unittest.TestCase):
                 self.assertGreater(float(s["mpi_messages_per_step"]), 0)
                 self.assertEqual((r["simulated"], s["simulated"]), ("", "dev-2core"))
                 self.assertTrue(s["mpi"].startswith("SMPI"), s["mpi"])
+                # 8 or 64 ranks on the one 2-core node of dev-2core.
+                self.assertEqual(s["oversubscribed"], "1")
                 self.assertIn("validation: not run (simulated on dev-2core", sim.stdout)
 
     def test_compute_follows_the_platform(self):
@@ -103,7 +105,11 @@ class SimulationBuild(unittest.TestCase):
                 f.write(PLATFORM % (gflops, bandwidth, core))
             r = self.run_sim(1, *LOCAL, "--csv", "one.csv", platform=platform)
             self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
-            return float(self.row(os.path.join(self.dir, "one.csv"))["compute_s"]) / 2  # a step
+            row = self.row(os.path.join(self.dir, "one.csv"))
+            # One rank on a simulated node of 2 cores: not oversubscribed, whatever this
+            # machine has; no binding of this machine's cores is claimed.
+            self.assertEqual((row["oversubscribed"], row["valid"], row["cores"]), ("0", "1", "simulated"))
+            return float(row["compute_s"]) / 2  # a step
 
         slow, fast = compute_s(1, 1e15), compute_s(2, 1e15)
         self.assertAlmostEqual(fast / slow, 0.5, delta=1e-6)
