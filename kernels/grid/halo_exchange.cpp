@@ -241,28 +241,28 @@ void HaloExchange::unpack_and_walls() {
   const std::size_t unpacked = mpi_doubles_ - (finished_across_ >= 0 ? across_doubles_[finished_across_] : 0);
   compute_stage(kCopiedValue, double(unpacked + wall_doubles_), [&] {
 #pragma omp parallel
-  {
+    {
 #pragma omp for schedule(static)
-    for (std::size_t r = 0; r < nr; ++r) {
-      const Run& run = recv_runs_[r];
-      if (crosses(run.dir, finished_across_)) continue;  // unpacked by finish_across
-      copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
-    }
-    // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
-    // the bottom ghosts from the top wall face).
+      for (std::size_t r = 0; r < nr; ++r) {
+        const Run& run = recv_runs_[r];
+        if (crosses(run.dir, finished_across_)) continue;  // unpacked by finish_across
+        copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
+      }
+      // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
+      // the bottom ghosts from the top wall face).
 #pragma omp for schedule(static)
-    for (std::size_t r = 0; r < nz; ++r) {
-      const WallRun& w = wall_zero_[r];
-      double* d = f[w.field]->data() + w.dst;
-      for (int i = 0; i < w.len; ++i) d[i] = 0.0;
-    }
+      for (std::size_t r = 0; r < nz; ++r) {
+        const WallRun& w = wall_zero_[r];
+        double* d = f[w.field]->data() + w.dst;
+        for (int i = 0; i < w.len; ++i) d[i] = 0.0;
+      }
 #pragma omp for schedule(static)
-    for (std::size_t r = 0; r < nm; ++r) {
-      const WallRun& w = wall_mirror_[r];
-      double* base = f[w.field]->data();
-      for (int i = 0; i < w.len; ++i) base[w.dst + i] = w.sign * base[w.src + i];
+      for (std::size_t r = 0; r < nm; ++r) {
+        const WallRun& w = wall_mirror_[r];
+        double* base = f[w.field]->data();
+        for (int i = 0; i < w.len; ++i) base[w.dst + i] = w.sign * base[w.src + i];
+      }
     }
-  }
   });
 }
 
