@@ -12,8 +12,8 @@ efficiency:METHOD (--write) and every later simulation on that platform uses it.
 
 --reference paper: the paper's one-core times of Table 2 (results/paper/paper_tables.csv):
 ACM (50 steps, sync) and SOR at 1e-3, sync (10 steps, the paper's N_S 100 and N_C 20).
---reference CSV: the rows of a measured weak-scaling CSV with ranks = 1, one per method
-(this machine's: the dev-2core platform).  Prints one line per method.  Standard library
+--reference CSV: the valid one-rank rows of a measured weak-scaling CSV, the median time of
+each method's first configuration (this machine's: the dev-2core platform).  Prints one line per method.  Standard library
 only; Debian's /usr/bin/python3.
 """
 
@@ -21,6 +21,7 @@ import argparse
 import csv
 import os
 import re
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -54,23 +55,25 @@ def paper_points():
 
 
 def measured_points(path):
-    """(method, options, seconds): one-rank weak-scaling rows of a measured CSV, the first per method."""
-    points, seen = [], set()
+    """(method, options, seconds): the one-rank weak-scaling rows of a measured CSV, the
+    median elapsed time of the first configuration of each method (repeat the run and
+    alternate it with others: one machine's times move)."""
+    chosen, times = {}, {}
     with open(path, newline="") as f:
         for r in csv.DictReader(f):
-            if r.get("experiment") != "weak" or r.get("ranks") != "1" or r.get("simulated") or r["method"] in seen:
+            if r.get("experiment") != "weak" or r.get("ranks") != "1" or r.get("simulated") or r.get("valid") != "1":
                 continue
-            seen.add(r["method"])
             opts = ["--method", r["method"], "--comm", r["comm"], "--steps", r["steps"],
                     "--local", str(int(r["nx"]))]
             if r["ns_per_step"]:
                 opts += ["--ns", r["ns_per_step"]]
             if r["nc_per_step"]:
                 opts += ["--nc", r["nc_per_step"]]
-            points.append((r["method"], opts, float(r["elapsed_s"])))
-    if not points:
-        raise Error(f"{path}: no measured one-rank weak-scaling row")
-    return points
+            if chosen.setdefault(r["method"], opts) == opts:
+                times.setdefault(r["method"], []).append(float(r["elapsed_s"]))
+    if not chosen:
+        raise Error(f"{path}: no valid measured one-rank weak-scaling row")
+    return [(m, chosen[m], statistics.median(times[m])) for m in chosen]
 
 
 def without_efficiency(xml, method):
