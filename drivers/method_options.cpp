@@ -42,6 +42,10 @@ void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_h
   for (const MethodSpec* m : pressure_methods()) methods += "\n  " + m->name() + ": " + m->summary();
   app.add_option("--method", o.method, "pressure method:" + methods)->capture_default_str();
   app.add_option("--comm", o.comm, "halo mode: sync | async")->capture_default_str();
+  app.add_option("--halo", o.halo,
+                 "how the exchanges that fill every ghost reach the edges and corners: direct (26 neighbours, "
+                 "one round) | phased (6 faces, three rounds x, y, z); the same ghosts either way")
+      ->capture_default_str();
   for (const RegisteredOption& r : registered_options()) {
     std::string takers;
     for (const std::string& t : r.methods) takers += (takers.empty() ? "" : ", ") + t;
@@ -86,6 +90,12 @@ void apply_method_options(const MethodOptions& o, ChannelCase& c, double default
     c.solver.comm = CommMode::async;
   else
     throw ConfigError("unknown --comm '" + o.comm + "': expected sync or async");
+  if (o.halo == "direct")
+    c.solver.halo = HaloPattern::direct;
+  else if (o.halo == "phased")
+    c.solver.halo = HaloPattern::phased;
+  else
+    throw ConfigError("unknown --halo '" + o.halo + "': expected direct or phased");
   choose_method(c, configure_method(o.method, o.given(), o.nc, calibrating));
   if (!c.method.spec->supports(c.solver.comm))
     throw ConfigError("--method " + o.method + " does not take --comm " + o.comm);

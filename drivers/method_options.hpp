@@ -15,7 +15,7 @@
 namespace efsi {
 
 struct MethodOptions {
-  std::string method = "acm", comm = "sync", integrator = "euler";
+  std::string method = "acm", comm = "sync", integrator = "euler", halo = "direct";
   std::map<std::string, std::optional<double>> method_values;  // by flag, one per registered option
   std::optional<double> dt;
   std::optional<int> nc;
@@ -25,7 +25,7 @@ struct MethodOptions {
   OptionValues given() const;  // the method options given on the command line
 };
 
-// --method, --comm, every registered method's options, --nc, --dt, --threads, --integrator,
+// --method, --comm, --halo, every registered method's options, --nc, --dt, --threads, --integrator,
 // --reproducible.
 // `dt_help` names the default.
 void add_method_options(CLI::App& app, MethodOptions& o, const std::string& dt_help);

@@ -3,6 +3,8 @@
 
   campaign.py local  [--sweep local-weak] [--ranks 1,2] [--configs ...] [--repeats N] --csv FILE
   campaign.py slurm  --out DIR [--sweep weak --sweep strong] [--cores-per-node N] [--cpus-per-task C] ...
+  campaign.py simulate --platform ricc|ricc-modern|FILE.xml --csv FILE [--sweep weak] [--ranks ...]
+                                                          (the simulation build under SimGrid)
   campaign.py list   --sweep NAME --what ranks|configs   (comma-separated, for JUBE)
   campaign.py collect --into FILE CSV...                 (append rows under a lock)
 
@@ -155,6 +157,24 @@ def bin_dir(args, check=True):
 
 # --- local: run here through mpirun (or srun inside an allocation) ----------------------------
 
+def run_point(cmd, env, timeout):
+    """(status or "timeout", output, wall seconds) of one run."""
+    t0 = time.monotonic()
+    try:
+        r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+        rc, out = r.returncode, r.stdout
+    except subprocess.TimeoutExpired as e:
+        rc, out = "timeout", (e.stdout or b"").decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
+    return rc, out, time.monotonic() - t0
+
+
+def failure_lines(out):
+    """What a failed run said: its error lines, else its last lines."""
+    lines = [l for l in out.splitlines() if l.strip()]
+    return " | ".join([l for l in lines if "error" in l.lower()][:2] or lines[-3:])
+
+
+
 def srun_prefix(ranks, threads, mpi, per_node=None):
     """srun for one run inside an allocation.  --mpi names the PMI the MPI library starts
     through: plain srun leaves it to the site's MpiDefault, and with Debian's SLURM (MpiDefault
@@ -218,19 +238,10 @@ def cmd_local(args):
         print(f"{tag}{note}\n  {omp} {shlex.join(cmd)}", flush=True)
         if args.dry_run:
             continue
-        t0 = time.monotonic()
-        try:
-            r = subprocess.run(cmd, env=run_env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-                               timeout=args.timeout)
-            rc, out = r.returncode, r.stdout
-        except subprocess.TimeoutExpired as e:
-            rc, out = "timeout", (e.stdout or b"").decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
-        wall = time.monotonic() - t0
+        rc, out, wall = run_point(cmd, run_env, args.timeout)
         if rc != 0:
             failed += 1
-            lines = [l for l in out.splitlines() if l.strip()]
-            why = [l for l in lines if "error" in l.lower()][:2] or lines[-3:]
-            print(f"  FAILED ({rc}) after {wall:.1f} s: " + " | ".join(why), flush=True)
+            print(f"  FAILED ({rc}) after {wall:.1f} s: {failure_lines(out)}", flush=True)
         else:
             print(f"  done in {wall:.1f} s", flush=True)
     if not args.dry_run:
@@ -399,6 +410,114 @@ def cmd_collect(args):
     return 0
 
 
+# --- simulate: the simulation build under SimGrid's SMPI (harness/simgrid/README.md) ----------
+
+DEFAULT_SIM_BIN_DIR = os.path.join(REPO, "build-simgrid", "bin")
+PLATFORMS = os.path.join(REPO, "harness", "simgrid", "platforms")
+PAPER_TABLES = os.path.join(REPO, "results", "paper", "paper_tables.csv")
+
+
+def platform_file(text):
+    path = text if text.endswith(".xml") else os.path.join(PLATFORMS, text + ".xml")
+    if not os.path.isfile(path):
+        names = sorted(n[:-4] for n in os.listdir(PLATFORMS) if n.endswith(".xml"))
+        raise argparse.ArgumentTypeError(f"platform '{text}' is neither a file nor one of {', '.join(names)}")
+    return os.path.abspath(path)
+
+
+def platform_name(path):
+    """The name a simulated row carries (the hosts' property `platform`), else the file's."""
+    with open(path) as f:
+        m = re.search(r'<prop\s+id="platform"\s+value="([^"]+)"', f.read())
+    return m.group(1) if m else os.path.splitext(os.path.basename(path))[0]
+
+
+def paper_sor_sweeps():
+    """The paper's SOR sweeps per step at each tolerance (Table 1): {eps: (N_S, N_C)}."""
+    with open(PAPER_TABLES, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["table"] == "1" and r["method"] == "sor"]
+    return {r["eps"]: (int(r["n_sor_total"]) // int(r["steps"]), int(r["n_cn_total"]) // int(r["steps"]))
+            for r in rows}
+
+
+def simulated_args(config):
+    """A configuration's driver options for a prediction of the paper: SOR at the paper's own
+    sweep counts for its tolerance (the calibration point ran them), not this suite's."""
+    args = config.driver_args()
+    if config.method == "sor" and config.variant:
+        ns_nc = paper_sor_sweeps().get(config.variant)
+        if ns_nc is None:
+            raise UsageError(f"no SOR sweep count in {PAPER_TABLES} for tolerance {config.variant}")
+        args += ["--ns", str(ns_nc[0]), "--nc", str(ns_nc[1])]
+    return args
+
+
+def done_points(csv_path):
+    """(experiment, method, comm, ns_per_step, ranks, simulated, halo) of the rows already in
+    the CSV: a campaign stopped part-way goes on where it stopped."""
+    if not os.path.exists(csv_path):
+        return set()
+    with open(csv_path, newline="") as f:
+        return {(r["experiment"], r["method"], r["comm"], r["ns_per_step"], r["ranks"], r["simulated"],
+                 r.get("halo", "")) for r in csv.DictReader(f) if r.get("valid") == "1"}
+
+
+def cmd_simulate(args):
+    if not args.csv:
+        raise UsageError("--csv FILE is required (where the predicted rows go)")
+    csv_path = os.path.abspath(args.csv)
+    sim_dir = os.path.abspath(args.sim_bin_dir)
+    run_sh = os.path.join(REPO, "harness", "simgrid", "run.sh")
+    if not args.dry_run:
+        for sweep in selected_sweeps(args):
+            exe = os.path.join(sim_dir, sweep.driver)
+            if not os.access(exe, os.X_OK):
+                raise UsageError(f"no simulation build at {exe} (cmake --preset simgrid && cmake --build --preset "
+                                 "simgrid, or give --sim-bin-dir)")
+    name = platform_name(args.platform)
+    done = done_points(csv_path)
+    runs = []
+    for sweep in selected_sweeps(args):
+        extra = size_options(args, sweep)
+        if "--steps" not in extra:
+            extra += ["--steps", str(args.default_steps)]
+        methods = sweeps.catalog(args.bin_dir)
+        configs = ([sweeps.parse_config(c, methods) for c in args.configs] if args.configs
+                   else [sweeps.parse_config(c, methods) for c in sweeps.PAPER_CONFIGS])
+        for ranks in args.ranks or sweep.ranks:
+            for config in configs:
+                drv_args = simulated_args(config) + ["--halo", args.halo]
+                ns = drv_args[drv_args.index("--ns") + 1] if "--ns" in drv_args else ""
+                key = (sweep.experiment, config.method, config.comm, ns, str(ranks), name, args.halo)
+                runs.append((sweep, ranks, config, drv_args, extra, key in done))
+    failed = 0
+    for n, (sweep, ranks, config, drv_args, extra, skip) in enumerate(runs, 1):
+        options = dict(zip(sweep.driver_options[::2], sweep.driver_options[1::2]))
+        options.update(zip(extra[::2], extra[1::2]))
+        cmd = ["bash", run_sh, args.platform, str(ranks), str(args.ranks_per_node),
+               os.path.join(sim_dir, sweep.driver), *drv_args]
+        for flag, value in options.items():
+            cmd += [flag, str(value)]
+        cmd += ["--csv", csv_path]
+        tag = f"[{n}/{len(runs)}] {sweep.name} on {name}: {ranks} simulated ranks, {args.ranks_per_node} a node, {config.name}"
+        if skip:
+            print(f"{tag}: in {csv_path} already, skipped", flush=True)
+            continue
+        print(f"{tag}\n  {shlex.join(cmd)}", flush=True)
+        if args.dry_run:
+            continue
+        rc, out, wall = run_point(cmd, None, args.timeout)
+        if rc != 0:
+            failed += 1
+            print(f"  FAILED ({rc}) after {wall:.1f} s of simulator time: {failure_lines(out)}", flush=True)
+        else:
+            timing = [l.strip() for l in out.splitlines() if l.startswith("timing over")]
+            print(f"  simulated in {wall:.1f} s: {timing[0] if timing else ''}", flush=True)
+    if not args.dry_run:
+        print(f"{len(runs) - failed} of {len(runs)} points in {csv_path}")
+    return 1 if failed else 0
+
+
 # --- command line ---------------------------------------------------------------------------
 
 def add_srun_mpi_option(p):
@@ -409,7 +528,7 @@ def add_srun_mpi_option(p):
 
 def build_parser():
     p = OneLineParser(prog=PROG, description=__doc__.split("\n\n")[0])
-    sub = p.add_subparsers(dest="command", parser_class=OneLineParser, metavar="{local,slurm,list,collect}")
+    sub = p.add_subparsers(dest="command", parser_class=OneLineParser, metavar="{local,slurm,simulate,list,collect}")
     sub.required = True
 
     lo = sub.add_parser("local", help="run a sweep on this machine through mpirun and append to a CSV")
@@ -445,6 +564,24 @@ def build_parser():
     sl.add_argument("--job-prefix", type=slurm_name, default="efsi")
     sl.add_argument("--no-exclusive", dest="exclusive", action="store_false", help="share nodes")
     sl.set_defaults(func=cmd_slurm)
+
+    si = sub.add_parser("simulate", help="predict a sweep with the simulation build on a platform model "
+                                         "(SimGrid's SMPI), appending to a CSV; points already there are skipped")
+    add_sweep_options(si, ["weak"])
+    si.set_defaults(repeats=1)
+    si.add_argument("--platform", type=platform_file, required=True,
+                    help="a platform of harness/simgrid/platforms (ricc, ricc-modern, dev-2core) or an XML file")
+    si.add_argument("--csv", help="append the predicted rows here (required)")
+    si.add_argument("--ranks-per-node", type=positive_int, default=8,
+                    help="simulated ranks per node (default 8, one per core of a RICC node)")
+    si.add_argument("--halo", choices=("direct", "phased"), default="phased",
+                    help="how the full exchanges reach the corners (default phased: 6 messages, which the "
+                         "simulator moves about 2x faster than 26 at 512 ranks)")
+    si.add_argument("--sim-bin-dir", default=DEFAULT_SIM_BIN_DIR,
+                    help=f"the simulation build's drivers (default {DEFAULT_SIM_BIN_DIR})")
+    si.add_argument("--timeout", type=positive_int, default=3600, help="seconds one point may take (default 3600)")
+    si.add_argument("--dry-run", action="store_true", help="print the commands, run nothing")
+    si.set_defaults(func=cmd_simulate, default_steps=2)
 
     li = sub.add_parser("list", help="print a sweep's rank counts or configurations, comma-separated")
     li.add_argument("--sweep", type=sweep_name, required=True)

@@ -107,7 +107,8 @@ const std::vector<std::string>& csv_columns() {
                                                 "cores_shared",
                                                 "simulated",
                                                 "mpi_messages_per_step",
-                                                "mpi_bytes_per_step"};
+                                                "mpi_bytes_per_step",
+                                                "halo"};
   return cols;
 }
 
@@ -129,7 +130,7 @@ std::string csv_row(const RunRecord& r) {
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
     << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
     << num(r.pressure_setup_s) << ',' << (r.layout.cores_shared ? 1 : 0) << ',' << clean(r.simulated) << ','
-    << num(r.mpi_messages_per_step) << ',' << num(r.mpi_bytes_per_step) << '\n';
+    << num(r.mpi_messages_per_step) << ',' << num(r.mpi_bytes_per_step) << ',' << clean(r.halo) << '\n';
   return o.str();
 }
 

@@ -26,6 +26,7 @@ struct RunRecord {
   double div_rms = 0;
   bool valid = false;
   HybridLayout layout;  // an oversubscribed run is never written as valid
+  std::string halo = "direct";  // SolverConfig::halo
   std::string simulated;  // the platform of a simulation-build run; "" for a measured one
   // Point-to-point messages and their bytes in a measured step, summed over the ranks.
   double mpi_messages_per_step = 0, mpi_bytes_per_step = 0;
@@ -36,7 +37,7 @@ std::string build_revision();
 
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
 // omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator, pressure_iterations,
-// pressure_setup_s, cores_shared, simulated, mpi_messages_per_step, mpi_bytes_per_step.
+// pressure_setup_s, cores_shared, simulated, mpi_messages_per_step, mpi_bytes_per_step, halo.
 const std::vector<std::string>& csv_columns();
 std::string csv_header();  // the columns joined by commas, no newline
 

@@ -25,8 +25,14 @@ for ((n = 0; n < nodes; ++n)); do echo "node-$n:$per_node"; done > "$hosts"
 # own benchmarking of the code between MPI calls is off; the simulated ranks' arrays are
 # folded onto shared pages (global: one block mapped again and again, which needs
 # vm.max_map_count above the blocks mapped); the Open MPI selector picks the collective
-# algorithms a real Open MPI picks.
+# algorithms Open MPI 4.1's fixed rules pick (a small allreduce: recursive doubling below
+# 256 ranks, a reduce and a broadcast from 256 on), but for the broadcast of small messages
+# at 256 ranks and more: there Open MPI takes a k-nomial tree (radix 4), which SMPI stands
+# in for with MVAPICH2's intra-node k-nomial, whose requests cost the simulator minutes per
+# call from 1024 ranks (30 s for one 8-byte allreduce at 1024 ranks against 0.6 s with a
+# binomial tree).  A binomial tree takes log2 P rounds where the k-nomial takes 1.5 log2 P
+# sends in log4 P rounds: microseconds a step, where a step takes a fraction of a second.
 exec smpirun -np "$ranks" -platform "$platform" -hostfile "$hosts" \
   --cfg=smpi/simulate-computation:no --cfg=smpi/shared-malloc:global \
-  --cfg=smpi/coll-selector:ompi --log=root.thres:warning \
+  --cfg=smpi/coll-selector:ompi --cfg=smpi/bcast:binomial_tree --log=root.thres:warning \
   ${EFSI_SMPI_CFG:-} "$@"

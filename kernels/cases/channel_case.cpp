@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "compute_model.hpp"
 #include "config_error.hpp"
 #include "time_step_limits.hpp"
 
@@ -82,20 +83,22 @@ std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecompos
   auto pressure = c.method.spec->make(c.method, MethodBuild{c.solver.comm, c.timed_planning});
   auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
   Field& phi = solver->state().phi();
-  phi.fill(0.0);
-  if (c.slab > 0) {
-    // Exact fraction of each cell inside slab < y < Ly - slab.
-    const double dy = c.domain.spacing(Y), lo = c.slab, hi = c.domain.length[Y] - c.slab;
-    const Int3 n = phi.n();
-    for (int j = 0; j < n[Y]; ++j) {
-      const double y0 = (phi.offset()[Y] + j) * dy, y1 = y0 + dy;
-      const double frac = std::max(0.0, std::min(y1, hi) - std::max(y0, lo)) / dy;
-      for (int k = 0; k < n[Z]; ++k)
-        for (int i = 0; i < n[X]; ++i) phi(i, j, k) = frac;
+  setup_stage([&] {
+    phi.fill(0.0);
+    if (c.slab > 0) {
+      // Exact fraction of each cell inside slab < y < Ly - slab.
+      const double dy = c.domain.spacing(Y), lo = c.slab, hi = c.domain.length[Y] - c.slab;
+      const Int3 n = phi.n();
+      for (int j = 0; j < n[Y]; ++j) {
+        const double y0 = (phi.offset()[Y] + j) * dy, y1 = y0 + dy;
+        const double frac = std::max(0.0, std::min(y1, hi) - std::max(y0, lo)) / dy;
+        for (int k = 0; k < n[Z]; ++k)
+          for (int i = 0; i < n[X]; ++i) phi(i, j, k) = frac;
+      }
+    } else if (!particles.empty()) {
+      fill_solid_fraction(phi, c.domain, particles, c.particle);
     }
-  } else if (!particles.empty()) {
-    fill_solid_fraction(phi, c.domain, particles, c.particle);
-  }
+  });
   solver->start_from_rest();
   return solver;
 }

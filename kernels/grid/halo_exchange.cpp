@@ -46,28 +46,28 @@ int opposite(int d) { return 26 - d; }
 // Whether direction d steps across the faces of `axis` (none for axis -1).
 bool crosses(int d, int axis) { return axis >= 0 && step_of(d)[axis] != 0; }
 
-// Points this rank sends towards `s` (its own boundary planes) ...
-Box send_box(const Field& f, const Int3& s) {
-  Box b;
-  const int h = f.halo();
-  for (int a = 0; a < 3; ++a) {
-    const int n = f.n()[a];
-    if (s[a] == 0) b.lo[a] = 0, b.hi[a] = f.owned_end(a);
-    else if (s[a] > 0) b.lo[a] = n - h, b.hi[a] = n;
-    else b.lo[a] = 0, b.hi[a] = h;
-  }
-  return b;
-}
+// The extent along `a` of the boxes of a direction: a step along it takes the boundary
+// planes (send) or the ghosts beyond them (receive); no step takes the owned points, or,
+// `wide`, the owned points and the ghosts on each side that has a neighbour (a phased round
+// after the round of `a`: those ghosts are current and travel on to the corners).
+struct Extent {
+  bool wide = false;
+  bool below = false, above = false;  // a neighbour on that side (wide only)
+};
 
-// ... and the ghosts it fills from the neighbour at `s`.
-Box recv_box(const Field& f, const Int3& s) {
+Box direction_box(const Field& f, const Int3& s, const std::array<Extent, 3>& ext, bool send) {
   Box b;
   const int h = f.halo();
   for (int a = 0; a < 3; ++a) {
     const int n = f.n()[a];
-    if (s[a] == 0) b.lo[a] = 0, b.hi[a] = f.owned_end(a);
-    else if (s[a] > 0) b.lo[a] = n, b.hi[a] = n + h;
-    else b.lo[a] = -h, b.hi[a] = 0;
+    if (s[a] == 0) {
+      b.lo[a] = ext[a].wide && ext[a].below ? -h : 0;
+      b.hi[a] = ext[a].wide && ext[a].above ? n + h : f.owned_end(a);
+    } else if (s[a] > 0) {
+      b.lo[a] = send ? n - h : n, b.hi[a] = send ? n : n + h;
+    } else {
+      b.lo[a] = send ? 0 : -h, b.hi[a] = send ? h : 0;
+    }
   }
   return b;
 }
@@ -92,28 +92,50 @@ HaloExchange::HaloExchange(const CartDecomposition& decomp, std::vector<Field*> 
 }
 
 void HaloExchange::build_runs(const CartDecomposition& decomp) {
+  const bool phased = reach_ == Reach::full_phased;
+  if (phased) {
+    rounds_ = 0;
+    for (int a = 0; a < 3; ++a)
+      if (axes_[a]) round_of_axis_[a] = rounds_++;
+    rounds_ = std::max(rounds_, 1);
+  }
   std::size_t send_total = 0, recv_total = 0;
   for (int d = 0; d < kDirs; ++d) {
     peer_[d] = MPI_PROC_NULL;
     if (d == kSelf) continue;
     const Int3 s = step_of(d);
     const int nonzero = (s[0] != 0) + (s[1] != 0) + (s[2] != 0);
-    if (reach_ == Reach::faces && nonzero > 1) continue;
+    if (reach_ != Reach::full && nonzero > 1) continue;
     if ((s[0] != 0 && !axes_[0]) || (s[1] != 0 && !axes_[1]) || (s[2] != 0 && !axes_[2])) continue;
+    // A direction and its opposite travel in one round, a wall's side included: the sync
+    // form pairs each send with the receive from the opposite side.
+    const int axis = s[0] != 0 ? 0 : s[1] != 0 ? 1 : 2;
+    if (phased) round_of_dir_[d] = round_of_axis_[axis];
     peer_[d] = decomp.neighbour(s);
     if (peer_[d] == MPI_PROC_NULL) continue;
+    // Phased: the axes of earlier rounds are taken wide.
+    std::array<Extent, 3> ext{};
+    if (phased) {
+      for (int b = 0; b < 3; ++b)
+        if (b != axis && round_of_axis_[b] >= 0 && round_of_axis_[b] < round_of_axis_[axis]) {
+          Int3 down{0, 0, 0}, up{0, 0, 0};
+          down[b] = -1, up[b] = 1;
+          ext[b] = {true, decomp.neighbour(down) != MPI_PROC_NULL, decomp.neighbour(up) != MPI_PROC_NULL};
+        }
+    }
+    const int r = round_of_dir_[d];
 
     send_off_[d] = send_total;
     recv_off_[d] = recv_total;
     for (int fi = 0; fi < static_cast<int>(fields_.size()); ++fi) {
       const Field& f = *fields_[fi];
-      const Box in = recv_box(f, s);
+      const Box in = direction_box(f, s, ext, false);
       const int len = in.hi[X] - in.lo[X], rows = in.hi[Y] - in.lo[Y];
       if (peer_[d] == self_) {
         // This rank's own points across the box: what its opposite face sends.
-        const Box out = send_box(f, {-s[0], -s[1], -s[2]});
+        const Box out = direction_box(f, {-s[0], -s[1], -s[2]}, ext, true);
         for (int k = in.lo[Z], ks = out.lo[Z]; k < in.hi[Z]; ++k, ++ks)
-          self_runs_.push_back(
+          self_runs_[r].push_back(
               SelfRun{fi, len, rows, f.index(out.lo[X], out.lo[Y], ks), f.index(in.lo[X], in.lo[Y], k), f.stride_y()});
         const std::size_t n = static_cast<std::size_t>(len) * rows * (in.hi[Z] - in.lo[Z]);
         send_total += n, recv_total += n;  // counted, never buffered
@@ -126,8 +148,8 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
           total += static_cast<std::size_t>(blen) * static_cast<std::size_t>(brows);
         }
       };
-      add_runs(send_box(f, s), send_runs_, send_total);
-      add_runs(in, recv_runs_, recv_total);
+      add_runs(direction_box(f, s, ext, true), send_runs_[r], send_total);
+      add_runs(in, recv_runs_[r], recv_total);
     }
     send_count_[d] = send_total - send_off_[d];
     recv_count_[d] = recv_total - recv_off_[d];
@@ -142,8 +164,10 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
       if (recv_count_[d] != send_count_[opposite(d)])
         throw std::logic_error("HaloExchange: self-copy sizes differ");
       local_doubles_ += send_count_[d];
+      round_local_doubles_[round_of_dir_[d]] += send_count_[d];
     } else {
       mpi_doubles_ += send_count_[d];
+      round_mpi_doubles_[round_of_dir_[d]] += send_count_[d];
       ++mpi_messages_;
       for (int a = 0; a < 3; ++a)
         if (crosses(d, a)) across_doubles_[a] += recv_count_[d];
@@ -152,10 +176,12 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
   // Field by field, plane by plane: the two x-face runs of a row touch the same cache lines
   // at its two ends (ghosts beside the owned points they copy from the other end), so run
   // one after the other they bring those lines from memory once instead of twice.  Sources
-  // are owned points and destinations ghosts, so the order moves no value.
-  std::sort(self_runs_.begin(), self_runs_.end(), [](const SelfRun& a, const SelfRun& b) {
-    return a.field != b.field ? a.field < b.field : a.dst < b.dst;
-  });
+  // are owned points (or ghosts of an earlier round) and destinations ghosts of this round,
+  // so the order moves no value.
+  for (auto& runs : self_runs_)
+    std::sort(runs.begin(), runs.end(), [](const SelfRun& a, const SelfRun& b) {
+      return a.field != b.field ? a.field < b.field : a.dst < b.dst;
+    });
   send_buf_ = allocate_storage(send_total, true);
   recv_buf_ = allocate_storage(recv_total, true);
 }
@@ -169,8 +195,9 @@ void HaloExchange::build_walls(const CartDecomposition& decomp) {
     const bool face = is_staggered(f.stagger(), Y);
     const double sign = f.spec().parity == WallParity::odd ? -1.0 : 1.0;
     // Ghost columns next to the wall are mirrored too when the exchange filled them.
-    const int ilo = reach_ == Reach::full ? -h : 0, ihi = f.n()[X] + (reach_ == Reach::full ? h : 0);
-    const int klo = reach_ == Reach::full ? -h : 0, khi = f.n()[Z] + (reach_ == Reach::full ? h : 0);
+    const bool all = reach_ != Reach::faces;
+    const int ilo = all ? -h : 0, ihi = f.n()[X] + (all ? h : 0);
+    const int klo = all ? -h : 0, khi = f.n()[Z] + (all ? h : 0);
     auto rows = [&](std::vector<WallRun>& out, int jdst, int jsrc, double sg) {
       for (int k = klo; k < khi; ++k)
         out.push_back(WallRun{fi, f.index(ilo, jdst, k), f.index(ilo, jsrc, k), ihi - ilo, sg});
@@ -204,26 +231,28 @@ void HaloExchange::build_walls(const CartDecomposition& decomp) {
     for (const WallRun& w : *runs) wall_doubles_ += static_cast<std::size_t>(w.len);
 }
 
-void HaloExchange::pack() {
-  const std::size_t nr = send_runs_.size();
+void HaloExchange::pack(int r) {
+  const std::vector<Run>& runs = send_runs_[r];
+  const std::size_t nr = runs.size();
   double* buf = send_buf_.get();
   Field* const* f = fields_.data();
-  compute_stage(kCopiedValue, double(mpi_doubles_), [&] {
+  compute_stage(kCopiedValue, double(round_mpi_doubles_[r]), [&] {
 #pragma omp parallel for schedule(static)
-    for (std::size_t r = 0; r < nr; ++r) {
-      const Run& run = send_runs_[r];
+    for (std::size_t i = 0; i < nr; ++i) {
+      const Run& run = runs[i];
       copy_block<true>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }
   });
 }
 
-void HaloExchange::copy_self() {
-  const std::size_t nr = self_runs_.size();
+void HaloExchange::copy_self(int r) {
+  const std::vector<SelfRun>& runs = self_runs_[r];
+  const std::size_t nr = runs.size();
   Field* const* f = fields_.data();
-  compute_stage(kCopiedValue, double(local_doubles_), [&] {
+  compute_stage(kCopiedValue, double(round_local_doubles_[r]), [&] {
 #pragma omp parallel for schedule(static)
-    for (std::size_t r = 0; r < nr; ++r) {
-      const SelfRun& run = self_runs_[r];
+    for (std::size_t i = 0; i < nr; ++i) {
+      const SelfRun& run = runs[i];
       double* base = f[run.field]->data();
       const double* src = base + run.src;
       double* dst = base + run.dst;
@@ -232,35 +261,38 @@ void HaloExchange::copy_self() {
   });
 }
 
-void HaloExchange::unpack_and_walls() {
+void HaloExchange::unpack(int r, bool walls) {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
   double* buf = recv_buf_.get();
-  const std::size_t nr = recv_runs_.size();
-  const std::size_t nz = wall_zero_.size(), nm = wall_mirror_.size();
-  const std::size_t unpacked = mpi_doubles_ - (finished_across_ >= 0 ? across_doubles_[finished_across_] : 0);
-  compute_stage(kCopiedValue, double(unpacked + wall_doubles_), [&] {
+  const std::vector<Run>& runs = recv_runs_[r];
+  const std::size_t nr = runs.size();
+  const std::size_t nz = walls ? wall_zero_.size() : 0, nm = walls ? wall_mirror_.size() : 0;
+  const std::size_t unpacked =
+      round_mpi_doubles_[r] - (finished_across_ >= 0 ? across_doubles_[finished_across_] : 0);
+  compute_stage(kCopiedValue, double(unpacked + (walls ? wall_doubles_ : 0)), [&] {
 #pragma omp parallel
     {
 #pragma omp for schedule(static)
-      for (std::size_t r = 0; r < nr; ++r) {
-        const Run& run = recv_runs_[r];
+      for (std::size_t i = 0; i < nr; ++i) {
+        const Run& run = runs[i];
         if (crosses(run.dir, finished_across_)) continue;  // unpacked by finish_across
         copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
       }
       // Wall faces are zeroed before the mirrors read them (a one-rank-high grid mirrors
-      // the bottom ghosts from the top wall face).
+      // the bottom ghosts from the top wall face).  Phased, they run after the last round:
+      // the z round may have brought a neighbour's wall ghosts before its wall rule ran.
 #pragma omp for schedule(static)
-      for (std::size_t r = 0; r < nz; ++r) {
-        const WallRun& w = wall_zero_[r];
+      for (std::size_t i = 0; i < nz; ++i) {
+        const WallRun& w = wall_zero_[i];
         double* d = f[w.field]->data() + w.dst;
-        for (int i = 0; i < w.len; ++i) d[i] = 0.0;
+        for (int m = 0; m < w.len; ++m) d[m] = 0.0;
       }
 #pragma omp for schedule(static)
-      for (std::size_t r = 0; r < nm; ++r) {
-        const WallRun& w = wall_mirror_[r];
+      for (std::size_t i = 0; i < nm; ++i) {
+        const WallRun& w = wall_mirror_[i];
         double* base = f[w.field]->data();
-        for (int i = 0; i < w.len; ++i) base[w.dst + i] = w.sign * base[w.src + i];
+        for (int m = 0; m < w.len; ++m) base[w.dst + m] = w.sign * base[w.src + m];
       }
     }
   });
@@ -268,37 +300,38 @@ void HaloExchange::unpack_and_walls() {
 
 void HaloExchange::exchange() {
   if (in_flight_) throw std::logic_error("HaloExchange::exchange while an async exchange is in flight");
-  {
-    RegionTimers::Scope t(timers_, Region::halo_pack);
-    pack();
-    copy_self();
-  }
-  {
-    RegionTimers::Scope t(timers_, Region::halo_mpi);
-    for (int d = 0; d < kDirs; ++d) {
-      if (d == kSelf) continue;
-      const int back = opposite(d);
-      const int dest = peer_[d] == self_ ? MPI_PROC_NULL : peer_[d];
-      const int src = peer_[back] == self_ ? MPI_PROC_NULL : peer_[back];
-      if (dest == MPI_PROC_NULL && src == MPI_PROC_NULL) continue;
-      // Tag = direction of travel as the sender sees it.
-      MPI_Sendrecv(send_buf_.get() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, dest, d,
-                   recv_buf_.get() + recv_off_[back], static_cast<int>(recv_count_[back]), MPI_DOUBLE, src, d,
-                   comm_, MPI_STATUS_IGNORE);
+  for (int r = 0; r < rounds_; ++r) {
+    {
+      RegionTimers::Scope t(timers_, Region::halo_pack);
+      pack(r);
+      copy_self(r);
     }
+    {
+      RegionTimers::Scope t(timers_, Region::halo_mpi);
+      for (int d = 0; d < kDirs; ++d) {
+        if (d == kSelf || round_of_dir_[d] != r) continue;
+        const int back = opposite(d);
+        const int dest = peer_[d] == self_ ? MPI_PROC_NULL : peer_[d];
+        const int src = peer_[back] == self_ ? MPI_PROC_NULL : peer_[back];
+        if (dest == MPI_PROC_NULL && src == MPI_PROC_NULL) continue;
+        // Tag = direction of travel as the sender sees it.
+        MPI_Sendrecv(send_buf_.get() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, dest, d,
+                     recv_buf_.get() + recv_off_[back], static_cast<int>(recv_count_[back]), MPI_DOUBLE, src, d,
+                     comm_, MPI_STATUS_IGNORE);
+      }
+    }
+    unpack(r, r + 1 == rounds_);
   }
-  unpack_and_walls();
 }
 
-void HaloExchange::begin() {
-  if (in_flight_) throw std::logic_error("HaloExchange::begin twice without finish");
-  in_flight_ = true;
+void HaloExchange::start_round(int r) {
+  round_ = r;
   requests_.clear();
   for (int d = 0; d < kDirs; ++d) recv_request_[d] = -1;
   {
     RegionTimers::Scope t(timers_, Region::halo_mpi);
     for (int d = 0; d < kDirs; ++d) {
-      if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
+      if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_ || round_of_dir_[d] != r) continue;
       recv_request_[d] = static_cast<int>(requests_.size());
       requests_.emplace_back();
       MPI_Irecv(recv_buf_.get() + recv_off_[d], static_cast<int>(recv_count_[d]), MPI_DOUBLE, peer_[d],
@@ -307,38 +340,59 @@ void HaloExchange::begin() {
   }
   {
     RegionTimers::Scope t(timers_, Region::halo_pack);
-    pack();
-    copy_self();
+    pack(r);
+    copy_self(r);
   }
   RegionTimers::Scope t(timers_, Region::halo_mpi);
   for (int d = 0; d < kDirs; ++d) {
-    if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_) continue;
+    if (peer_[d] == MPI_PROC_NULL || peer_[d] == self_ || round_of_dir_[d] != r) continue;
     requests_.emplace_back();
     MPI_Isend(send_buf_.get() + send_off_[d], static_cast<int>(send_count_[d]), MPI_DOUBLE, peer_[d], d, comm_,
               &requests_.back());
   }
 }
 
-void HaloExchange::progress() {
-  if (!in_flight_ || requests_.empty()) return;
-  RegionTimers::Scope t(timers_, Region::halo_mpi);
-  int done = 0;
-  MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
-}
-
-void HaloExchange::finish() {
-  if (!in_flight_) throw std::logic_error("HaloExchange::finish without begin");
+void HaloExchange::complete_round() {
   {
     RegionTimers::Scope t(timers_, Region::halo_wait);
     MPI_Waitall(static_cast<int>(requests_.size()), requests_.data(), MPI_STATUSES_IGNORE);
   }
+  const bool last = round_ + 1 == rounds_;
+  unpack(round_, last);
+  if (last) round_ = rounds_;
+  else start_round(round_ + 1);
+}
+
+void HaloExchange::begin() {
+  if (in_flight_) throw std::logic_error("HaloExchange::begin twice without finish");
+  in_flight_ = true;
+  start_round(0);
+}
+
+void HaloExchange::progress() {
+  if (!in_flight_ || round_ >= rounds_) return;
+  int done = 1;
+  if (!requests_.empty()) {
+    RegionTimers::Scope t(timers_, Region::halo_mpi);
+    MPI_Testall(static_cast<int>(requests_.size()), requests_.data(), &done, MPI_STATUSES_IGNORE);
+  }
+  // A round that has arrived lets the next one go; the last waits for finish().
+  if (done && round_ + 1 < rounds_) complete_round();
+}
+
+void HaloExchange::finish() {
+  if (!in_flight_) throw std::logic_error("HaloExchange::finish without begin");
+  while (round_ < rounds_) complete_round();
   in_flight_ = false;
-  unpack_and_walls();
   finished_across_ = -1;
 }
 
 void HaloExchange::finish_across(int axis) {
   if (!in_flight_) throw std::logic_error("HaloExchange::finish_across without begin");
+  if (reach_ == Reach::full_phased) {
+    while (round_ <= round_of_axis_[axis] && round_ < rounds_) complete_round();
+    return;
+  }
   {
     RegionTimers::Scope t(timers_, Region::halo_wait);
     for (int d = 0; d < kDirs; ++d)
@@ -348,11 +402,12 @@ void HaloExchange::finish_across(int axis) {
   RegionTimers::Scope t(timers_, Region::halo_unpack);
   Field* const* f = fields_.data();
   double* buf = recv_buf_.get();
-  const std::size_t nr = recv_runs_.size();
+  const std::vector<Run>& runs = recv_runs_[0];
+  const std::size_t nr = runs.size();
   compute_stage(kCopiedValue, double(across_doubles_[axis]), [&] {
 #pragma omp parallel for schedule(static)
-    for (std::size_t r = 0; r < nr; ++r) {
-      const Run& run = recv_runs_[r];
+    for (std::size_t i = 0; i < nr; ++i) {
+      const Run& run = runs[i];
       if (!crosses(run.dir, axis)) continue;
       copy_block<false>(f[run.field]->data() + run.index, buf + run.buf, run.len, run.rows, run.stride);
     }

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "compute_model.hpp"
+
 namespace efsi {
 
 std::vector<FieldSpec> fsi_field_specs() {
@@ -52,18 +54,20 @@ std::vector<const Field*> FsiState::all() const {
 }
 
 void FsiState::set_unstrained_rest() {
-  for (int a = 0; a < 3; ++a) vel(a).fill(0.0);
-  p().fill(0.0);
-  for (int n = 3; n < 6; ++n) B(n).fill(0.0);
-  const Field& ph = phi();
-  const Int3 n = ph.n();
-  for (int a = 0; a < 3; ++a) {
-    Field& b = B(a, a);
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < n[Z]; ++k)
-      for (int j = 0; j < n[Y]; ++j)
-        for (int i = 0; i < n[X]; ++i) b(i, j, k) = std::sqrt(std::max(ph(i, j, k), 0.0));
-  }
+  setup_stage([&] {
+    for (int a = 0; a < 3; ++a) vel(a).fill(0.0);
+    p().fill(0.0);
+    for (int n = 3; n < 6; ++n) B(n).fill(0.0);
+    const Field& ph = phi();
+    const Int3 n = ph.n();
+    for (int a = 0; a < 3; ++a) {
+      Field& b = B(a, a);
+  #pragma omp parallel for schedule(static)
+      for (int k = 0; k < n[Z]; ++k)
+        for (int j = 0; j < n[Y]; ++j)
+          for (int i = 0; i < n[X]; ++i) b(i, j, k) = std::sqrt(std::max(ph(i, j, k), 0.0));
+    }
+  });
 }
 
 }  // namespace efsi

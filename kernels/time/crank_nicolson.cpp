@@ -31,7 +31,7 @@ int checked_sweeps(int sweeps) {
 }  // namespace
 
 CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWork& work, int sweeps,
-                                         RegionTimers* timers)
+                                         RegionTimers* timers, Reach v_reach)
     : sweeps_(checked_sweeps(sweeps)),
       timers_(timers),
       v_explicit_{Field(decomp, work.vstar[0].spec()), Field(decomp, work.vstar[1].spec()),
@@ -40,7 +40,7 @@ CrankNicolsonStress::CrankNicolsonStress(const CartDecomposition& decomp, FsiWor
                   Field(decomp, work.vstar[2].spec())},
       b_advected_(tensor_fields(decomp, work.B_new, "_adv")),
       tau_star_(tensor_fields(decomp, work.tau, "*")),
-      v_halo_(decomp, {&work.vstar[0], &work.vstar[1], &work.vstar[2]}, Reach::full, timers),
+      v_halo_(decomp, {&work.vstar[0], &work.vstar[1], &work.vstar[2]}, v_reach, timers),
       tau_halo_(decomp,
                 {&tau_star_[0], &tau_star_[1], &tau_star_[2], &tau_star_[3], &tau_star_[4], &tau_star_[5]},
                 Reach::faces, timers) {}

@@ -24,7 +24,9 @@ namespace efsi {
 class CrankNicolsonStress {
  public:
   // work.vstar is the iterate; its exchanges are built here once. sweeps: N_C >= 1.
-  CrankNicolsonStress(const CartDecomposition& decomp, FsiWork& work, int sweeps, RegionTimers* timers);
+  // `v_reach`: how the v* exchange, which fills every ghost, reaches the corners.
+  CrankNicolsonStress(const CartDecomposition& decomp, FsiWork& work, int sweeps, RegionTimers* timers,
+                      Reach v_reach = Reach::full);
   CrankNicolsonStress(const CrankNicolsonStress&) = delete;
   CrankNicolsonStress& operator=(const CrankNicolsonStress&) = delete;
 

@@ -23,14 +23,16 @@ FsiSolver::FsiSolver(const CartDecomposition& decomp, const Domain& domain, cons
     config_.divergence_limit =
         0.005 * config_.velocity_limit / std::min({domain.spacing(X), domain.spacing(Y), domain.spacing(Z)});
   for (const StepExchangeSpec& x : kStepExchanges)
-    halos_[static_cast<int>(x.id)] =
-        std::make_unique<HaloExchange>(decomp, step_exchange_fields(x.id, state_, work_), x.reach, &timers_);
+    halos_[static_cast<int>(x.id)] = std::make_unique<HaloExchange>(
+        decomp, step_exchange_fields(x.id, state_, work_),
+        x.reach == Reach::full ? full_reach(config_.halo) : x.reach, &timers_);
   // A periodic wrap onto this rank itself is copied when the exchange begins: the
   // interior may run up to those faces, and their strided shells (x) are not needed.
   const HaloExchange& state_halo = *halos_[static_cast<int>(StepExchange::state)];
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side) current_sides_[a][side] = state_halo.face_current_at_begin(a, 2 * side - 1);
-  if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_);
+  if (config_.cn_sweeps > 0) cn_ = std::make_unique<CrankNicolsonStress>(decomp, work_, config_.cn_sweeps, &timers_,
+                                                                  full_reach(config_.halo));
   else fused_ = std::make_unique<StressAndMomentum>(work_.tau);  // Crank-Nicolson reads tau whole
   if (integrator_.stages.size() > 1) start_ = std::make_unique<FsiState>(decomp, domain);
   pressure_->attach(decomp, domain, work_, timers_);
@@ -77,12 +79,14 @@ void FsiSolver::impose_laminar_flow() {
   const Domain& d = state_.domain();
   const double dy = d.spacing(Y), ly = d.length[Y], c = config_.physics.force / (2.0 * config_.physics.mu);
   const Int3 n = u.n();
-  for (int j = 0; j < n[Y]; ++j) {
-    const double y = u.coord(Y, j) * dy;
-    const double value = c * y * (ly - y);
-    for (int k = 0; k < n[Z]; ++k)
-      for (int i = 0; i < n[X]; ++i) u(i, j, k) = value;
-  }
+  setup_stage([&] {
+    for (int j = 0; j < n[Y]; ++j) {
+      const double y = u.coord(Y, j) * dy;
+      const double value = c * y * (ly - y);
+      for (int k = 0; k < n[Z]; ++k)
+        for (int i = 0; i < n[X]; ++i) u(i, j, k) = value;
+    }
+  });
   halos_[static_cast<int>(StepExchange::state)]->exchange();
 }
 

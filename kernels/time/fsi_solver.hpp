@@ -23,6 +23,9 @@ struct SolverConfig {
   Physics physics;
   double dt = 1e-4;
   CommMode comm = CommMode::sync;
+  // How the exchanges that fill every ghost (the state's, Crank-Nicolson's v*) reach the
+  // edges and corners: the same ghosts, bit for bit, either way (halo_exchange.hpp).
+  HaloPattern halo = HaloPattern::direct;
   // A velocity component beyond this, a non-finite value, or a predicted divergence
   // rho div v* beyond divergence_limit stops the run (BlowUp). divergence_limit <= 0
   // means 0.005 velocity_limit / dx: with velocity_limit at 100 times the flow's scale U,

@@ -58,6 +58,7 @@ class BadInput(ChannelTestCase):
         (SMALL + ["--no-such-option", "7"], [r"--no-such-option"]),
         (SMALL + ["--method", "foo"], [r"\bfoo\b"]),
         (SMALL + ["--integrator", "rk4"], [r"\brk4\b", r"euler", r"rk3"]),
+        (SMALL + ["--halo", "corners"], [r"--halo", r"\bcorners\b", r"direct", r"phased"]),
         (SMALL + ["--method", "sor", "--eps", "1e-5"], [r"--eps", r"1e-05", r"1e-3", r"1e-4"]),
         (SMALL + ["--method", "sor", "--ns", "0"], [r"--ns", r"\b0\b", r"at least 1"]),
         (SMALL + ["--method", "sor", "--nc", "-1"], [r"--nc", r"-1\b"]),

@@ -3,12 +3,14 @@
 SimGrid's smpicxx runs as simulated ranks under smpirun (harness/simgrid/run.sh), its
 stages charging their counted work instead of running (kernels/grid/compute_model.hpp).
 
-- 8 and 64 simulated ranks of small blocks, ACM and SOR (sync and async), send the very
-  messages the real build sends: the CSV's mpi_messages_per_step and mpi_bytes_per_step
+- 8 and 64 simulated ranks of small blocks, ACM and SOR (sync and async, the corners
+  direct and phased), send the very messages the real build sends: the CSV's mpi_messages_per_step and mpi_bytes_per_step
   equal those of the same run of the real build (bin-dir), and the rank grid is the same;
 - the simulated row names its platform (`simulated`) and SMPI (`mpi`);
 - the modelled compute follows the platform: a core twice as fast halves the compute time
   of a one-rank step (the model's t = max(flops / F, bytes / B) / e);
+- `campaign.py simulate` runs a sweep's points on a platform, appends their rows, and, run
+  again, skips the points its CSV already holds (a campaign cut off goes on where it stopped);
 - what the simulation build leaves out (parallel HDF5: checkpoints, snapshots, restarts) is
   refused in one line before the run, nothing written.
 
@@ -44,7 +46,8 @@ CENSUS = [
     (8, 16, ["--method", "acm", "--comm", "async"]),
     (8, 16, ["--method", "sor", "--comm", "async", "--ns", "3", "--nc", "2"]),
     (64, 8, ["--method", "acm"]),
-    (64, 8, ["--method", "sor", "--ns", "2", "--nc", "1"]),
+    (64, 8, ["--method", "acm", "--comm", "async", "--halo", "phased"]),
+    (64, 8, ["--method", "sor", "--ns", "2", "--nc", "1", "--halo", "phased"]),
 ]
 
 
@@ -84,7 +87,7 @@ class SimulationBuild(unittest.TestCase):
                 sim = self.run_sim(ranks, *args, "--csv", "sim.csv")
                 self.assertEqual(sim.returncode, 0, sim.stdout + sim.stderr)
                 r, s = self.row(os.path.join(self.dir, "real.csv")), self.row(os.path.join(self.dir, "sim.csv"))
-                for col in ("ranks", "px", "py", "pz", "mpi_messages_per_step", "mpi_bytes_per_step"):
+                for col in ("ranks", "px", "py", "pz", "mpi_messages_per_step", "mpi_bytes_per_step", "halo"):
                     self.assertEqual(s[col], r[col], col)
                 self.assertGreater(float(s["mpi_messages_per_step"]), 0)
                 self.assertEqual((r["simulated"], s["simulated"]), ("", "dev-2core"))
@@ -118,6 +121,27 @@ class SimulationBuild(unittest.TestCase):
         self.assertGreater(compute_s(1, 1e9), 1.02 * slow)
         # A core that draws less than its node offers is held to its own rate.
         self.assertAlmostEqual(compute_s(1, 1e15, core_bandwidth=1e9), compute_s(1, 1e9), delta=1e-9)
+
+    def test_campaign_simulate_appends_and_resumes(self):
+        campaign = os.path.join(ARGS.source_dir, "harness", "campaign.py")
+        out = os.path.join(self.dir, "predicted.csv")
+        cmd = [sys.executable, campaign, "simulate", "--platform", "dev-2core", "--sweep", "weak", "--ranks", "1,2",
+               "--configs", "acm-sync,acm-async", "--local", "16", "--particles-per-rank", "0", "--steps", "1",
+               "--ranks-per-node", "2", "--sim-bin-dir", ARGS.sim_bin_dir, "--bin-dir", ARGS.bin_dir, "--csv", out]
+        first = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        self.assertEqual(first.returncode, 0, first.stdout + first.stderr)
+        with open(out) as f:
+            rows = list(csv.DictReader(f))
+        self.assertEqual(sorted((r["ranks"], r["comm"]) for r in rows),
+                         [("1", "async"), ("1", "sync"), ("2", "async"), ("2", "sync")])
+        for r in rows:
+            self.assertEqual((r["simulated"], r["halo"], r["valid"], r["experiment"]), ("dev-2core", "phased", "1", "weak"))
+            self.assertGreater(float(r["elapsed_s"]), 0)
+        again = subprocess.run(cmd, capture_output=True, text=True, timeout=300)
+        self.assertEqual(again.returncode, 0, again.stdout + again.stderr)
+        self.assertEqual(again.stdout.count("already, skipped"), 4, again.stdout)
+        with open(out) as f:
+            self.assertEqual(len(list(csv.DictReader(f))), 4)
 
     def test_state_files_are_refused_before_the_run(self):
         for option in (["--checkpoint", "ck.h5"], ["--snapshot-every", "1"], ["--restart", "ck.h5"]):

@@ -163,6 +163,34 @@ TEST(HaloExchange, FullReachFillsEveryGhostOnEveryDecomposition) { check_all_dec
 
 TEST(HaloExchange, FaceReachFillsFaceGhostsOnEveryDecomposition) { check_all_decompositions(Reach::faces); }
 
+TEST(HaloExchange, PhasedFullReachFillsEveryGhostOnEveryDecomposition) {
+  check_all_decompositions(Reach::full_phased);
+}
+
+// The corners carried through the faces are the corners sent directly, bit for bit, in
+// either mode, and the phased async form lets progress() move its rounds on.
+TEST(HaloExchange, PhasedAndDirectLeaveBitwiseTheSameFields) {
+  for_each_decomposition([](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
+                            const std::string& where) {
+    FieldSet direct(dec, specs), phased(dec, specs), phased_async(dec, specs);
+    HaloExchange direct_x(dec, direct.ptrs, Reach::full), phased_x(dec, phased.ptrs, Reach::full_phased),
+        async_x(dec, phased_async.ptrs, Reach::full_phased);
+    direct_x.exchange();
+    phased_x.exchange();
+    async_x.begin();
+    for (int i = 0; i < 4; ++i) async_x.progress();
+    async_x.finish();
+    EXPECT_TRUE(bitwise_equal(direct, phased)) << where;
+    EXPECT_TRUE(bitwise_equal(direct, phased_async)) << where;
+    // The same values cross the faces; only the edges and corners (which now ride in the
+    // face messages) leave the direct form's count of values.
+    EXPECT_LE(phased_x.messages_sent(), 6);
+    EXPECT_LE(phased_x.messages_sent(), direct_x.messages_sent());
+    EXPECT_EQ(phased_x.rounds(), 3);
+    EXPECT_EQ(direct_x.rounds(), 1);
+  });
+}
+
 TEST(HaloExchange, SingleRankCopiesLocallyWithoutMessages) {
   int p = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &p);
@@ -189,10 +217,16 @@ TEST(HaloExchange, MessageCountMatchesNeighbourDirections) {
   if (p != 8) GTEST_SKIP() << "needs 8 ranks as 2x2x2";
   CartDecomposition dec(MPI_COMM_WORLD, {8, 8, 8}, 3, {2, 2, 2});
   Field a(dec, {"a", Stagger::cell, 1, WallParity::even});
-  HaloExchange full(dec, {&a}, Reach::full), faces(dec, {&a}, Reach::faces);
+  HaloExchange full(dec, {&a}, Reach::full), faces(dec, {&a}, Reach::faces), phased(dec, {&a}, Reach::full_phased);
   // One y side is a wall: 26 - 9 directions cross it, 17 remain; faces: 6 - 1 = 5.
   EXPECT_EQ(full.messages_sent(), 17);
   EXPECT_EQ(faces.messages_sent(), 5);
+  EXPECT_EQ(phased.messages_sent(), 5);
+  // 4^3 cells a rank, halo 1, a wall below or above: x faces 4x4, y face 6x4 (x ghosts ride
+  // along), z faces 6x5 (x and the one y neighbour's ghosts).
+  EXPECT_EQ(phased.bytes_sent_mpi(), (2 * 16 + 24 + 2 * 30) * sizeof(double));
+  // 5 faces, 4 xz edges, 2 xy and 2 yz edges, 4 corners: the same 116 values.
+  EXPECT_EQ(full.bytes_sent_mpi(), (5 * 16 + 4 * 4 + 2 * 4 + 2 * 4 + 4 * 1) * sizeof(double));
 }
 
 bool wall_face_row(const Field& f, int j) {
@@ -259,11 +293,13 @@ TEST(HaloExchange, LeftOutAxisKeepsItsGhostsAndFillsTheOthers) {
 // finish_across(X) between begin() and finish() fills every ghost beyond the x faces (with
 // y owned: the wall rows wait for finish()), and finish() then leaves the fields bitwise as a
 // plain exchange does.
-TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
-  for_each_decomposition([](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
-                            const std::string& where) {
+// Phased, the x round is the first: the x ghosts over the owned z planes are current; those
+// beside the z ghosts ride the z round.
+void check_finish_across_x(Reach reach) {
+  for_each_decomposition([reach](const CartDecomposition& dec, const std::vector<FieldSpec>& specs,
+                                 const std::string& where) {
     FieldSet early(dec, specs), plain(dec, specs);
-    HaloExchange early_x(dec, early.ptrs, Reach::full), plain_x(dec, plain.ptrs, Reach::full);
+    HaloExchange early_x(dec, early.ptrs, reach), plain_x(dec, plain.ptrs, reach);
     plain_x.exchange();
     early_x.begin();
     early_x.finish_across(X);
@@ -271,7 +307,8 @@ TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
     for (std::size_t n = 0; n < early.ptrs.size(); ++n) {
       const Field& f = *early.ptrs[n];
       const int h = f.halo();
-      for (int k = -h; k < f.n()[Z] + h; ++k)
+      const int klo = reach == Reach::full ? -h : 0, khi = reach == Reach::full ? f.n()[Z] + h : f.owned_end(Z);
+      for (int k = klo; k < khi; ++k)
         for (int j = 0; j < f.owned_end(Y); ++j)
           for (int i = -h; i < f.n()[X] + h; ++i) {
             if (inside(f, X, i) || wall_face_row(f, j)) continue;
@@ -283,7 +320,11 @@ TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) {
     }
     EXPECT_EQ(wrong, 0) << where;
     early_x.finish();
-    EXPECT_EQ(count_wrong(early, Reach::full, where), 0);
+    EXPECT_EQ(count_wrong(early, reach, where), 0);
     EXPECT_TRUE(bitwise_equal(early, plain)) << where;
   });
 }
+
+TEST(HaloExchange, FinishAcrossXFillsTheXGhostsFirst) { check_finish_across_x(Reach::full); }
+
+TEST(HaloExchange, PhasedFinishAcrossXFillsTheXFaceGhostsFirst) { check_finish_across_x(Reach::full_phased); }
