@@ -5,7 +5,7 @@ Standard library only, so the tests can check the numbers without matplotlib.
 Rules (issue 5):
 - only rows with valid=1 count; the others are counted and reported, never plotted;
 - rows are grouped by configuration (method, comm, eps) and set-up (block per rank or
-  global grid, steps, threads, host); repeated runs of one point give the median elapsed
+  global grid, steps, threads, host; a simulated row's host is "predicted on PLATFORM"); repeated runs of one point give the median elapsed
   time (and the median communication fraction);
 - weak efficiency T_1/T_M uses T_1 of the same group; strong speedup T_ref/T_M uses the
   group's smallest rank count as the reference.
@@ -136,7 +136,10 @@ def setup_of(row, experiment):
         block = f"{nx // px}x{ny // py}x{nz // pz}/rank"
     else:
         block = f"{nx}x{ny}x{nz}"
-    return Setup(block, int(row["steps"]), int(row["threads"]), row["host"])
+    # A simulated row's host is a platform node; the platform names the series, so that a
+    # prediction stands beside the measurements of the same configuration, never among them.
+    host = f"predicted on {row['simulated']}" if (row.get("simulated") or "").strip() else row["host"]
+    return Setup(block, int(row["steps"]), int(row["threads"]), host)
 
 
 def series(loaded, experiment):

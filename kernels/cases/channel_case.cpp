@@ -1,7 +1,10 @@
 #include "channel_case.hpp"
 
+#include <mpi.h>
+
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "compute_model.hpp"
 #include "config_error.hpp"
@@ -50,6 +53,33 @@ Int3 rank_grid(const ChannelCase& c, int ranks) {
   return choose_dims(ranks, c.domain.cells, kTransportHalo, c.forced_dims);
 }
 
+namespace {
+
+// check_particles on rank 0; its ConfigError, if any, thrown by every rank.
+void check_particles_once(const Domain& d, const std::vector<Particle>& particles, const ParticleSpec& spec) {
+  int up = 0;
+  MPI_Initialized(&up);
+  if (!up) return check_particles(d, particles, spec);
+  int rank = 0;
+  MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+  std::string failure;
+  if (rank == 0) {
+    try {
+      check_particles(d, particles, spec);
+    } catch (const ConfigError& e) {
+      failure = e.what();
+    }
+  }
+  int length = static_cast<int>(failure.size());
+  MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
+  if (length == 0) return;
+  failure.resize(static_cast<std::size_t>(length));
+  MPI_Bcast(failure.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
+  throw ConfigError(failure);
+}
+
+}  // namespace
+
 std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_end) {
   const Domain& d = c.domain;
   for (int a = 0; a < 3; ++a)
@@ -73,7 +103,7 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
   }
   if (c.particles != 0) {
     particles = lattice_particles(d, c.particles, c.particle);
-    check_particles(d, particles, c.particle);
+    check_particles_once(d, particles, c.particle);
   }
   return particles;
 }

@@ -66,7 +66,7 @@ class WeakScaling(DriverTestCase):
 
     def test_paper_defaults_are_announced(self):
         res = self.run_ok(["--steps", "1", "--local", "16", "--particles-per-rank", "0"], ranks=2)
-        self.assertRegex(res.out, r"acm, sync halo, 2 ranks as 1x2x1, local block 16x16x16")
+        self.assertRegex(res.out, r"acm, sync direct halo, 2 ranks as 1x2x1, local block 16x16x16")
         self.assertRegex(res.out, r"16x32x16 cells, box 0\.9 x 1\.8 x 0\.9, 0 particles, G=50, dt=1\.25e-05")
         res = self.run_ok(["--steps", "1", "--local", "16", "--particles-per-rank", "0", "--method", "sor"])
         self.assertRegex(res.out, r"dt=6\.25e-05, 1 steps \+ 1 warm-up")

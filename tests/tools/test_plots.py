@@ -160,6 +160,18 @@ class CommittedCampaign(Figures):
 
 
 class SkippedRows(unittest.TestCase):
+    def test_predicted_rows_are_their_own_series(self):
+        # The simulation build's rows (simulated = the platform) never join the measured ones.
+        sys.path.insert(0, os.path.join(REPO, "plots"))
+        import results_data as rd
+        with open(WEAK) as f:
+            rows = [r for r in csv.DictReader(f) if r["valid"] == "1"]
+        predicted = [dict(r, simulated="ricc", host="node-0") for r in rows]
+        loaded = rd.Loaded(rows + predicted, collections.Counter())
+        hosts = {s.setup.host for s in rd.series(loaded, "weak")}
+        self.assertIn("predicted on ricc", hosts)
+        self.assertEqual(len(hosts), 2, hosts)
+
     def test_invalid_rows_are_left_out_and_reported(self):
         tmp = tempfile.mkdtemp(prefix="efsi-plots-skip-")
         self.addCleanup(shutil.rmtree, tmp, True)
