@@ -182,7 +182,7 @@ void check_outputs(const RunRequest& req) {
   check_csv(req.csv);
 }
 
-RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
+RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req) {
   check_outputs(req);
   init_compute_model();  // the simulation build's node model (compute_model.hpp); nothing otherwise
   use_efficiency_of(c.method.name());
@@ -192,6 +192,8 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   RunOutcome out;
   out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const CartDecomposition& dec = *out.decomp;
+  const std::size_t particle_count = particles.size();
+  particles = particles_reaching(particles, c.domain, c.particle, dec.offset(), dec.local());
   // Before the banner and the first field: a case too big for the node is refused, not
   // started and killed (or swapping) once it has taken the node's memory.
   if (!req.memory_checked) check_node_memory(c, dec.local(), dec.dims(), req.force_memory);
@@ -217,7 +219,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
           "marked oversubscribed and not valid\n");
     std::printf("  %s cells, box %.4g x %.4g x %.4g, %zu particles%s, G=%g, dt=%g, %ld steps + 1 warm-up, %s\n",
                 to_string(c.domain.cells).c_str(), c.domain.length[0], c.domain.length[1], c.domain.length[2],
-                particles.size(), c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured,
+                particle_count, c.slab > 0 ? " (layered slab)" : "", c.solver.physics.G, c.solver.dt, measured,
                 find_integrator(c.solver.integrator).description.c_str());
     std::string sweeps = c.method.banner;
     if (c.solver.cn_sweeps > 0)
@@ -333,7 +335,7 @@ RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles
   long long sent[2] = {step_census.messages, step_census.bytes}, all_sent[2] = {0, 0};
   MPI_Allreduce(sent, all_sent, 2, MPI_LONG_LONG, MPI_SUM, dec.comm());
   const std::string prof = req.profile.empty() ? std::string() : profile_text(solver.state());
-  out.record = run_record(c, req, dec, layout, particles.size(), rep, tail.empty() ? 0.0 : tail.back().div_rms,
+  out.record = run_record(c, req, dec, layout, particle_count, rep, tail.empty() ? 0.0 : tail.back().div_rms,
                           v.valid, iterations / double(measured), solver.pressure().report().setup_seconds);
   out.record.mpi_messages_per_step = double(all_sent[0]) / double(measured);
   out.record.mpi_bytes_per_step = double(all_sent[1]) / double(measured);
@@ -345,7 +347,7 @@ int run_scaling_case(const ChannelCase& c, const std::string& program, const std
                      const std::string& csv, bool force_memory, const StateOptions& state) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  const std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
+  std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
   RunRequest req;
   req.program = program;
   req.experiment = experiment;
@@ -353,7 +355,7 @@ int run_scaling_case(const ChannelCase& c, const std::string& program, const std
   req.csv = csv;
   req.force_memory = force_memory;
   apply_state_options(state, req);
-  return run_case(c, particles, req).valid ? 0 : 4;
+  return run_case(c, std::move(particles), req).valid ? 0 : 4;
 }
 
 }  // namespace efsi

@@ -47,8 +47,9 @@ void check_outputs(const RunRequest& req);
 
 // Collective over MPI_COMM_WORLD. Checks that every output is writable (check_outputs) and that the node
 // holds the solver (check_node_memory) before allocating; throws OutputError on every rank
-// when one cannot be written after the run.
-RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
+// when one cannot be written after the run.  `particles`: the whole lattice; each rank keeps
+// those that reach its block (particles_reaching) once its block is known.
+RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req);
 
 // The scaling drivers' run: validates the case (ConfigError before anything is
 // allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`

@@ -24,6 +24,7 @@ import shlex
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -157,11 +158,12 @@ def bin_dir(args, check=True):
 
 # --- local: run here through mpirun (or srun inside an allocation) ----------------------------
 
-def run_point(cmd, env, timeout):
+def run_point(cmd, env, timeout, cwd=None):
     """(status or "timeout", output, wall seconds) of one run."""
     t0 = time.monotonic()
     try:
-        r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout)
+        r = subprocess.run(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, timeout=timeout,
+                           cwd=cwd)
         rc, out = r.returncode, r.stdout
     except subprocess.TimeoutExpired as e:
         rc, out = "timeout", (e.stdout or b"").decode(errors="replace") if isinstance(e.stdout, bytes) else (e.stdout or "")
@@ -506,7 +508,9 @@ def cmd_simulate(args):
         print(f"{tag}\n  {shlex.join(cmd)}", flush=True)
         if args.dry_run:
             continue
-        rc, out, wall = run_point(cmd, None, args.timeout)
+        # smpirun leaves its host file in the working folder while it runs: not in the checkout.
+        with tempfile.TemporaryDirectory(prefix="efsi-simulate-") as work:
+            rc, out, wall = run_point(cmd, None, args.timeout, cwd=work)
         if rc != 0:
             failed += 1
             print(f"  FAILED ({rc}) after {wall:.1f} s of simulator time: {failure_lines(out)}", flush=True)

@@ -34,7 +34,8 @@ double gib(double bytes);
 // (no /proc, a kernel before 3.14) nothing is refused and rank 0 prints a one-line warning.
 void check_node_memory(std::size_t rank_bytes, bool force);
 
-// The same for the case's solver on `local` cells per rank of the `dims` rank grid.
+// The same for the case's solver on `local` cells per rank of the `dims` rank grid; nothing
+// in the simulation build.
 void check_node_memory(const ChannelCase& c, const Int3& local, const Int3& dims, bool force);
 
 }  // namespace efsi

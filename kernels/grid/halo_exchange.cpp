@@ -182,6 +182,13 @@ void HaloExchange::build_runs(const CartDecomposition& decomp) {
     std::sort(runs.begin(), runs.end(), [](const SelfRun& a, const SelfRun& b) {
       return a.field != b.field ? a.field < b.field : a.dst < b.dst;
     });
+  // Kept for the whole run by every rank: the simulation build holds 8192 ranks' lists
+  // in one process (a run per plane, field and direction: half its memory at 64^3 a rank).
+  for (int r = 0; r < kMaxRounds; ++r) {
+    send_runs_[r].shrink_to_fit();
+    recv_runs_[r].shrink_to_fit();
+    self_runs_[r].shrink_to_fit();
+  }
   send_buf_ = allocate_storage(send_total, true);
   recv_buf_ = allocate_storage(recv_total, true);
 }
@@ -227,8 +234,10 @@ void HaloExchange::build_walls(const CartDecomposition& decomp) {
       }
     }
   }
-  for (const auto* runs : {&wall_zero_, &wall_mirror_})
+  for (auto* runs : {&wall_zero_, &wall_mirror_}) {
+    runs->shrink_to_fit();
     for (const WallRun& w : *runs) wall_doubles_ += static_cast<std::size_t>(w.len);
+  }
 }
 
 void HaloExchange::pack(int r) {

@@ -385,6 +385,23 @@ void check_particles(const Domain& domain, const std::vector<Particle>& ps, cons
     throw ConfigError(first + (failing > 1 ? "; " + std::to_string(failing - 1) + " more particles too close" : ""));
 }
 
+std::vector<Particle> particles_reaching(const std::vector<Particle>& particles, const Domain& domain,
+                                         const ParticleSpec& spec, const Int3& offset, const Int3& n) {
+  const double radius = spec.diameter / 2.0;
+  std::vector<std::pair<int, int>> reach;
+  std::vector<Particle> out;
+  for (const Particle& p : particles) {
+    bool touches = true;
+    for (int ax = 0; ax < 3 && touches; ++ax) {
+      cells_in_reach(p.centre[ax], reach_bound(p.axis, unit(ax), radius), ax, domain.cells[ax], offset[ax], n[ax],
+                     domain.spacing(ax), reach);
+      touches = !reach.empty();
+    }
+    if (touches) out.push_back(p);
+  }
+  return out;
+}
+
 void fill_solid_fraction(Field& phi, const Domain& domain, const std::vector<Particle>& particles,
                          const ParticleSpec& spec, int samples_per_axis) {
   if (phi.stagger() != Stagger::cell)

@@ -1,22 +1,29 @@
 #!/usr/bin/env bash
-# The committed predictions of results/simulated/ (harness/simgrid/README.md): the paper's
-# weak-scaling block (64^3 cells, 2 particles a rank) with ACM, simulated on the RICC
-# platform with its calibrated efficiencies, 8 ranks a node.  Simulated time has no noise, so
-# a few steps give the per-step time of the paper's 50.
-#   results/simulated/run.sh [RANKS ...]      default: 1 8 64 512
+# The committed predictions of results/simulated/ (README.md there): the paper's campaigns
+# on the RICC model and on RICC's tree with today's parts, through harness/campaign.py
+# simulate (restartable: run it again and it goes on where it stopped).
+#   results/simulated/run.sh                 every sweep below (hours on a 2-core machine)
+#   results/simulated/run.sh weak|strong|modern|sor
 # Needs the simulation build (cmake --preset simgrid && cmake --build --preset simgrid) and,
 # from 512 ranks, vm.max_map_count raised (sysctl -w vm.max_map_count=4194304).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-out=results/simulated/ricc-weak-acm.csv
-ranks=("$@")
-[ ${#ranks[@]} -gt 0 ] || ranks=(1 8 64 512)
-rm -f "$out"
-for n in "${ranks[@]}"; do
-  steps=5
-  [ "$n" -ge 512 ] && steps=2  # the simulator's set-up and steps cost minutes there
-  /usr/bin/time -f "$n ranks: simulator wall %e s, max RSS %M KB (folded pages counted again)" \
-    harness/simgrid/run.sh harness/simgrid/platforms/ricc.xml "$n" 8 build-simgrid/bin/weak_scaling \
-    --method acm --steps "$steps" --csv "$out" | grep -E "timing over|comm fraction"
+campaign=(python3 harness/campaign.py simulate)
+what=("$@")
+[ ${#what[@]} -gt 0 ] || what=(weak strong modern sor)
+for w in "${what[@]}"; do
+  case "$w" in
+    # ACM, Table 2: 1 to 8192 ranks, 8 a node, 2 measured steps.
+    weak) "${campaign[@]}" --platform ricc --sweep weak --configs acm-sync --csv results/simulated/ricc-weak.csv ;;
+    # ACM, Table 4: the 2048 x 1024 x 1024 case on 1024 to 8192 ranks.
+    strong) "${campaign[@]}" --platform ricc --sweep strong --configs acm-sync --csv results/simulated/ricc-strong.csv ;;
+    # The same weak sweep on ricc-modern: what the faster kernel does to the communication fraction.
+    modern) "${campaign[@]}" --platform ricc-modern --sweep weak --configs acm-sync \
+              --ranks 1,8,64,512,4096,8192 --csv results/simulated/ricc-modern-weak.csv ;;
+    # SOR at the paper's 1e-3 (N_S = 100, N_C = 20), async: one measured step a point, to 64 ranks
+    # (its 400 exchanges a step cost the simulator minutes a step from 512 ranks on).
+    sor) "${campaign[@]}" --platform ricc --sweep weak --configs sor-async-1e-3 --ranks 1,2,4,8,16,32,64 \
+           --steps 1 --csv results/simulated/ricc-weak-sor.csv ;;
+    *) echo "run.sh: unknown sweep '$w' (weak, strong, modern, sor)" >&2; exit 2 ;;
+  esac
 done
-echo "wrote $out"
