@@ -100,7 +100,7 @@ class EfsiDriverCheck(rfm.RunOnlyRegressionTest):
         row = rows[0]
         return sn.all([
             sn.assert_found(r"^validation: .*: PASSED$", self.stdout),
-            sn.assert_found(rf"^{self.driver}: {self.method}, \w+ halo, {self.ranks} ranks as ", self.stdout),
+            sn.assert_found(rf"^{self.driver}: {self.method}, \w+ \w+ halo, {self.ranks} ranks as ", self.stdout),
             sn.assert_eq(sn.len(rows), 1, msg="run.csv holds {0} rows, not {1}"),
             sn.assert_eq(row["method"], self.method),
             sn.assert_eq(row["ranks"], str(self.ranks)),
