@@ -60,6 +60,7 @@ class HaloExchange {
   void begin();
   // Between begin() and finish(): lets MPI move the messages on (MPI_Testall). Without it a
   // large message (rendezvous protocol) waits for finish() to start, and nothing overlaps.
+  // The simulation build tests only a phased round that is not the last.
   void progress();
   void finish();
   // Between begin() and finish(): waits for the messages that cross the faces of `axis`

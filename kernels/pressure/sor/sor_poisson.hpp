@@ -32,6 +32,7 @@
 #include "paper_constants.hpp"
 #include "halo_exchange.hpp"
 #include "region_timers.hpp"
+#include "work_count.hpp"
 
 namespace efsi {
 
@@ -72,6 +73,7 @@ class SorPoisson {
     int colour;
     bool pair;
   };
+  PerCell pass_cost() const;
   void update(const Field& rhs, double factor, const Stage& stage, const Box& box);
   template <bool kPair>
   void update_rows(const Field& rhs, double factor, int colour, const Box& box);
