@@ -47,10 +47,19 @@ void init_compute_model() {
   g_model.cores_on_node = sg_host_core_count(sg_host_self());
   g_model.node_bandwidth = host_property("memory_bandwidth", 0.0);
   g_model.core_bandwidth = host_property("core_bandwidth", std::numeric_limits<double>::infinity());
+  g_model.sockets = static_cast<int>(host_property("sockets", 1.0));
   MPI_Comm node;
   MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &node);
+  int local = 0;
   MPI_Comm_size(node, &g_model.ranks_on_node);
+  MPI_Comm_rank(node, &local);
   MPI_Comm_free(&node);
+  // By-core placement: socket 0's cores first, then socket 1's; ranks beyond the cores
+  // wrap round the sockets again.
+  const int per_socket = std::max(1, g_model.cores_on_node / g_model.sockets);
+  auto socket_of = [&](int r) { return (r / per_socket) % g_model.sockets; };
+  g_model.ranks_on_socket = 0;
+  for (int r = 0; r < g_model.ranks_on_node; ++r) g_model.ranks_on_socket += socket_of(r) == socket_of(local) ? 1 : 0;
   int missing = g_model.node_bandwidth > 0 ? 0 : 1, any = 0;
   MPI_Allreduce(&missing, &any, 1, MPI_INT, MPI_MAX, MPI_COMM_WORLD);
   if (any)
@@ -65,7 +74,8 @@ void use_efficiency_of(const std::string& method) {
 
 void charge_compute(PerCell cost, double cells) {
   const double F = g_model.core_flops;
-  const double share = std::min(g_model.core_bandwidth, g_model.node_bandwidth / g_model.ranks_on_node);
+  const double share =
+      std::min(g_model.core_bandwidth, g_model.node_bandwidth / g_model.sockets / g_model.ranks_on_socket);
   const double by_bytes = cost.bytes * cells * F / share;
   const double flops = std::max(cost.flops * cells, by_bytes) / g_model.efficiency;
   if (flops > 0) smpi_execute_flops(flops);

@@ -5,12 +5,14 @@
 // through the project's own code under SMPI, with their real sizes and counts.  The model
 // is a roofline per rank, over the efficiency calibrated for the run's method:
 //
-//   t = max(flops / F, bytes / min(C, B / ranks on the node)) / e
+//   t = max(flops / F, bytes / min(C, (B / S) / ranks on the socket)) / e
 //
 // F: the platform host's speed (one core, flop/s); B: the host's property memory_bandwidth
-// (B/s, the whole node); C: its property core_bandwidth (B/s one core draws alone: a core
-// reaches a fraction of its node's bandwidth; unlimited when absent); e: the host's property
-// efficiency:<method>, 1 when absent.  In the
+// (B/s, the whole node); S: its property sockets (1 when absent), each with its own share
+// of B, the node's ranks filling them in order (Open MPI's by-core placement); C: its
+// property core_bandwidth (B/s one core draws alone: a core reaches a fraction of its
+// node's bandwidth; unlimited when absent); e: the host's property efficiency:<method>, 1
+// when absent.  In the
 // real build the loops run and nothing is charged.  The platform files and their
 // calibration: harness/simgrid/README.md.
 #include <string>
@@ -29,6 +31,8 @@ struct NodeModel {
   double core_bandwidth = 0; // C
   int ranks_on_node = 0;
   int cores_on_node = 0;     // the host's core count
+  int sockets = 1;           // S
+  int ranks_on_socket = 0;   // this rank's socket's
   double efficiency = 0;     // e, for the method chosen last
 };
 

@@ -8,9 +8,12 @@ stages charging their counted work instead of running (kernels/grid/compute_mode
   equal those of the same run of the real build (bin-dir), and the rank grid is the same;
 - the simulated row names its platform (`simulated`) and SMPI (`mpi`);
 - the modelled compute follows the platform: a core twice as fast halves the compute time
-  of a one-rank step (the model's t = max(flops / F, bytes / B) / e);
+  of a one-rank step (the model's t = max(flops / F, bytes / B) / e), and the ranks of a
+  node fill its first socket's cores and share that socket's bandwidth;
 - with this machine's platform (dev-2core.xml), the model predicts the recorded 1 and 2
   rank ACM times (results/simulated/dev-2core-measured-acm.csv) within 15%;
+- a simulated SOR step is linear in its sweeps: three short steps extrapolate
+  (harness/simgrid/extrapolate_sweeps.py) to the full step a simulation gives;
 - `campaign.py simulate` runs a sweep's points on a platform, appends their rows, and, run
   again, skips the points its CSV already holds (a campaign cut off goes on where it stopped);
 - what the simulation build leaves out (parallel HDF5: checkpoints, snapshots, restarts) is
@@ -127,6 +130,23 @@ class SimulationBuild(unittest.TestCase):
         # A core that draws less than its node offers is held to its own rate.
         self.assertAlmostEqual(compute_s(1, 1e15, core_bandwidth=1e9), compute_s(1, 1e9), delta=1e-9)
 
+    def test_ranks_fill_a_socket_first(self):
+        # A node of 2 sockets of 2 cores, each socket half the node's bandwidth: 2 ranks sit on
+        # socket 0 and share its half (by-core placement), so a memory-bound step takes what
+        # it takes on a one-socket node of half the bandwidth; 4 ranks, two a socket, the same.
+        def compute_s(ranks, bandwidth, sockets):
+            platform = os.path.join(self.dir, "node.xml")
+            with open(platform, "w") as f:
+                f.write(PLATFORM.replace('core="2"', 'core="4"') % (1, bandwidth, f'\n      <prop id="sockets" value="{sockets}"/>'))
+            r = self.run_sim(ranks, *LOCAL, "--csv", "sockets.csv", platform=platform)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+            return float(self.row(os.path.join(self.dir, "sockets.csv"))["compute_s"])
+
+        two = compute_s(2, 1e8, 2)
+        self.assertAlmostEqual(two, compute_s(2, 5e7, 1), delta=1e-9 * two)
+        self.assertGreater(two, 1.5 * compute_s(2, 1e8, 1))
+        self.assertAlmostEqual(compute_s(4, 1e8, 2), compute_s(4, 1e8, 1), delta=1e-9 * two)
+
     def test_model_predicts_the_recorded_one_and_two_rank_times(self):
         # The honesty check of harness/simgrid/README.md: dev-2core.xml carries the rates
         # measured on the machine that recorded results/simulated/dev-2core-measured-acm.csv,
@@ -147,6 +167,35 @@ class SimulationBuild(unittest.TestCase):
                 self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
                 predicted = float(self.row(os.path.join(self.dir, "honest.csv"))["elapsed_s"])
                 self.assertLess(abs(predicted / median - 1), HONEST_WITHIN, (ranks, predicted, median))
+
+    def test_sor_step_is_linear_in_its_sweeps(self):
+        # extrapolate_sweeps.py rests on a simulated SOR step being linear in N_S and N_C:
+        # three short steps must predict the step at the paper's counts (N_S 100, N_C 20 at
+        # 1e-3), as a full simulation of it gives; a full time that disagrees fails the check.
+        script = os.path.join(ARGS.source_dir, "harness", "simgrid", "extrapolate_sweeps.py")
+        parts, full = os.path.join(self.dir, "parts.csv"), os.path.join(self.dir, "full.csv")
+        block = ["--local", "16", "--particles-per-rank", "0", "--steps", "1", "--method", "sor", "--comm", "async",
+                 "--eps", "1e-3"]
+        ricc = os.path.join(ARGS.source_dir, "harness", "simgrid", "platforms", "ricc.xml")  # 8 cores: not oversubscribed
+        for ns, nc, out in ((2, 1, parts), (5, 1, parts), (2, 3, parts), (100, 20, full)):
+            r = self.run_sim(8, *block, "--ns", str(ns), "--nc", str(nc), "--csv", out, platform=ricc)
+            self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+        check = subprocess.run([sys.executable, script, "--parts", parts, "--full", full], capture_output=True,
+                               text=True, timeout=60)
+        self.assertEqual(check.returncode, 0, check.stdout + check.stderr)
+        self.assertIn(": PASSED", check.stdout)
+        self.assertIn("| 8 | 2x2x2 |", check.stdout)
+        with open(full, newline="") as f:
+            rows = list(csv.DictReader(f))
+        rows[-1]["elapsed_s"] = str(float(rows[-1]["elapsed_s"]) * 1.01)
+        with open(full, "w", newline="") as f:
+            w = csv.DictWriter(f, fieldnames=list(rows[0]))
+            w.writeheader()
+            w.writerows(rows)
+        off = subprocess.run([sys.executable, script, "--parts", parts, "--full", full], capture_output=True,
+                             text=True, timeout=60)
+        self.assertEqual(off.returncode, 1, off.stdout + off.stderr)
+        self.assertIn(": FAILED", off.stdout)
 
     def test_campaign_simulate_appends_and_resumes(self):
         campaign = os.path.join(ARGS.source_dir, "harness", "campaign.py")

@@ -1,0 +1,146 @@
+#!/usr/bin/env python3
+"""SOR's step at the paper's sweep counts from short simulated steps: an extrapolation,
+labelled as one, for the rank counts where a full step costs the simulator too much.
+
+A simulated SOR step is the same work and the same messages sweep after sweep, so its
+time is linear in the SOR sweeps N_S and the Crank-Nicolson sweeps N_C of the step:
+
+    t(N_S, N_C) = a + b N_S + c N_C        (and the same for the communication time)
+
+Three simulated steps of one configuration, at (s, n), (s + ds, n) and (s, n + dn), give
+a, b and c; the step at the paper's (N_S, N_C) for the row's experiment and tolerance (Table 1
+weak, Table 3 strong, as the mean a step) follows.
+Where a full simulation at the paper's counts exists (--full CSV), the extrapolation is
+checked against it: the relative gap must stay under AGREE (one PASSED/FAILED line; exit
+status 1 on FAILED).  Prints a Markdown table: ranks, rank grid, the extrapolated time of
+the paper's step count, and the communication fraction.
+
+  extrapolate_sweeps.py --parts results/simulated/ricc-weak-sor-parts.csv \\
+                        --full results/simulated/ricc-weak-sor.csv
+
+Standard library only; Debian's /usr/bin/python3.
+"""
+
+import argparse
+import collections
+import csv
+import os
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+PAPER = os.path.join(ROOT, "results", "paper", "paper_tables.csv")
+PROG = "extrapolate_sweeps.py"
+AGREE = 0.005  # the largest relative gap to a full simulation that counts as agreement
+
+
+class Error(Exception):
+    pass
+
+
+def eps_key(text):
+    """'0.001', '1e-3', '1.0e-03' -> '1e-3'."""
+    if not text:
+        return ""
+    mant, exp = f"{float(text):.0e}".split("e")
+    return f"{mant}e{int(exp)}"
+
+
+def paper_sweeps():
+    """{(experiment, eps): (N_S, N_C, steps)} of the paper's SOR runs (Tables 1 and 3), the
+    sweeps a step as the mean over its steps (the strong case's 1058 in 10 steps: 105.8)."""
+    with open(PAPER, newline="") as f:
+        rows = [r for r in csv.DictReader(f) if r["table"] in ("1", "3") and r["method"] == "sor"]
+    return {(r["experiment"], eps_key(r["eps"])): (int(r["n_sor_total"]) / int(r["steps"]),
+                                                   int(r["n_cn_total"]) / int(r["steps"]), int(r["steps"]))
+            for r in rows}
+
+
+def read_rows(path):
+    with open(path, newline="") as f:
+        return [r for r in csv.DictReader(f) if r.get("valid") == "1" and r.get("method") == "sor"]
+
+
+def per_step(row, column):
+    return float(row[column]) / int(row["steps"])
+
+
+def fit(points):
+    """points: {(ns, nc): row} with three corners (s, n), (s + ds, n), (s, n + dn) -> a function
+    (column, ns, nc) -> the column's value per step, linear in ns and nc."""
+    keys = sorted(points)
+    base = min(keys)
+    up_s = [k for k in keys if k[1] == base[1] and k[0] > base[0]]
+    up_c = [k for k in keys if k[0] == base[0] and k[1] > base[1]]
+    if not up_s or not up_c:
+        raise Error(f"need steps at (s, n), (s + ds, n) and (s, n + dn); have {keys}")
+    ks, kc = up_s[0], up_c[0]
+
+    def value(column, ns, nc):
+        t0 = per_step(points[base], column)
+        b = (per_step(points[ks], column) - t0) / (ks[0] - base[0])
+        c = (per_step(points[kc], column) - t0) / (kc[1] - base[1])
+        return t0 + b * (ns - base[0]) + c * (nc - base[1])
+
+    return value
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
+    ap.add_argument("--parts", required=True, help="simulated short SOR steps (three (N_S, N_C) a configuration)")
+    ap.add_argument("--full", help="simulated steps at the paper's counts, to check the extrapolation against")
+    args = ap.parse_args(argv)
+    try:
+        sweeps = paper_sweeps()
+        groups = collections.defaultdict(dict)
+        for r in read_rows(args.parts):
+            key = (r["experiment"], r["simulated"], r["comm"], eps_key(r["eps"]), int(r["ranks"]))
+            groups[key][(int(r["ns_per_step"]), int(r["nc_per_step"]))] = r
+        if not groups:
+            raise Error(f"{args.parts}: no valid SOR rows")
+        full = {}
+        for r in read_rows(args.full) if args.full else []:
+            key = (r["experiment"], r["simulated"], r["comm"], eps_key(r["eps"]), int(r["ranks"]))
+            full[(key, int(r["ns_per_step"]), int(r["nc_per_step"]))] = per_step(r, "elapsed_s")
+        worst, checked = 0.0, 0
+        current = None
+        for key in sorted(groups):
+            experiment, platform, comm, eps, ranks = key
+            if (experiment, eps) not in sweeps:
+                raise Error(f"no {experiment} SOR sweep counts in {PAPER} for tolerance {eps}")
+            ns, nc, steps = sweeps[(experiment, eps)]
+            if len(groups[key]) < 3:  # a campaign still under way
+                print(f"{PROG}: {ranks} ranks, SOR {comm} {eps}: {len(groups[key])} of 3 short steps, left out",
+                      file=sys.stderr)
+                continue
+            value = fit(groups[key])
+            t = value("elapsed_s", ns, nc)
+            comm_s = value("comm_s", ns, nc)
+            if (experiment, platform, comm, eps) != current:
+                current = (experiment, platform, comm, eps)
+                print(f"\n### SOR {experiment} {comm} {eps} on {platform}, extrapolated to N_S = {ns:g}, N_C = {nc:g}\n")
+                print(f"| ranks | rank grid | extrapolated (s, {steps} steps) | full simulation (s) | comm fraction |")
+                print("|---|---|---|---|---|")
+            row = next(iter(groups[key].values()))
+            simulated = full.get((key, int(ns), int(nc))) if ns == int(ns) and nc == int(nc) else None
+            shown = ""
+            if simulated is not None:
+                gap = abs(t / simulated - 1)
+                worst, checked = max(worst, gap), checked + 1
+                shown = f"{simulated * steps:.2f} (gap {gap:.2%})"
+            print(f"| {ranks} | {row['px']}x{row['py']}x{row['pz']} | {t * steps:.2f} | {shown} | {comm_s / t:.3f} |")
+        print()
+        if args.full:
+            if checked == 0:
+                raise Error(f"{args.full}: no full simulation at the paper's counts to check against")
+            verdict = "PASSED" if worst < AGREE else "FAILED"
+            print(f"extrapolation against {checked} full simulations: largest gap {worst:.3%} "
+                  f"(limit {AGREE:.1%}): {verdict}")
+            return 0 if verdict == "PASSED" else 1
+    except (Error, OSError, KeyError, ValueError) as e:
+        print(f"{PROG}: error: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
