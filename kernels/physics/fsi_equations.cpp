@@ -217,9 +217,9 @@ void momentum_tendency(const FieldSet& s, const Physics& ph, const std::array<Fi
 TauRing::TauRing(const std::array<Field, 6>& layout) {
   std::size_t total = 0;
   for (const Field& f : layout) total += 3 * static_cast<std::size_t>(f.stride_z());
-  data_.reset(static_cast<double*>(std::aligned_alloc(64, ((total * sizeof(double) + 63) / 64) * 64)));
-  if (!data_) throw std::bad_alloc();
-  std::fill(data_.get(), data_.get() + total, 0.0);
+  // Storage: folded in the simulation build, where 8192 ranks' rings (760 KB a rank of 64^3)
+  // would otherwise be most of the simulator's private memory.
+  data_ = allocate_storage(total, true);
   double* p = data_.get();
   for (int c = 0; c < 6; ++c) {
     const Field& f = layout[c];
@@ -228,8 +228,6 @@ TauRing::TauRing(const std::array<Field, 6>& layout) {
     p += 3 * f.stride_z();
   }
 }
-
-void TauRing::Free::operator()(double* p) const noexcept { std::free(p); }
 
 StressAndMomentum::StressAndMomentum(const std::array<Field, 6>& tau_layout) {
   const int threads = std::max(1, omp_get_max_threads());

@@ -11,6 +11,7 @@
 
 #include "fsi_state.hpp"
 #include "rate_output.hpp"
+#include "storage.hpp"
 
 namespace efsi {
 
@@ -68,10 +69,7 @@ class TauRing {
   Planes& operator[](int c) { return planes_[c]; }
 
  private:
-  struct Free {
-    void operator()(double* p) const noexcept;
-  };
-  std::unique_ptr<double[], Free> data_;
+  Storage data_;
   std::array<Planes, 6> planes_{};
 };
 
