@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Fits a platform's compute efficiency per method on one measured point per method.
+"""Fits a platform's compute efficiency per method on one-rank reference times.
 
 The simulation build charges each stage t = max(flops / F, bytes / B_rank) / e
 (kernels/grid/compute_model.hpp).  On one rank no message leaves the rank, so the simulated
@@ -7,11 +7,19 @@ time of a run is A / e, with A its time at e = 1: one run at e = 1 and the refer
 give e = A / T.  The fitted e is written into the platform as the host property
 efficiency:METHOD (--write) and every later simulation on that platform uses it.
 
+SOR's step is two kinds of work: its Poisson sweeps (few flops a cell, over memory) and the
+rest (the stencils of the step and Crank-Nicolson's sweeps).  The paper gives one-core
+times at two tolerances, the same step with 100 and 220 sweeps, so SOR gets two
+efficiencies: with R and S the rest's and the sweeps' simulated times at e = 1 (the sweeps'
+are what halving their efficiency adds), T = R / e + S / e_sweeps at both tolerances fixes both
+(efficiency:sor and efficiency:sor-sweeps).
+
   calibrate.py --platform harness/simgrid/platforms/ricc.xml --sim-bin-dir build-simgrid/bin \\
                --reference paper [--write]
 
 --reference paper: the paper's one-core times of Table 2 (results/paper/paper_tables.csv):
-ACM (50 steps, sync) and SOR at 1e-3, sync (10 steps, the paper's N_S 100 and N_C 20).
+ACM (50 steps, sync) and SOR sync at 1e-3 and 1e-4 (10 steps, the paper's N_S 100 and 220,
+N_C 20).
 --reference CSV: the valid one-rank rows of a measured weak-scaling CSV, the median time of
 each method's first configuration (this machine's: the dev-2core platform).  Prints one line per method.  Standard library
 only; Debian's /usr/bin/python3.
@@ -37,7 +45,8 @@ class Error(Exception):
 
 
 def paper_points():
-    """(method, weak_scaling options, seconds) of Table 2 at one core: ACM and SOR 1e-3 sync."""
+    """(method, weak_scaling options, seconds) of Table 2 at one core: ACM, SOR sync at 1e-3
+    and at 1e-4 (in that order)."""
     with open(PAPER, newline="") as f:
         rows = [r for r in csv.DictReader(f) if r["table"] == "2" and r["cores"] == "1" and r["comm"] == "sync"]
     points = []
@@ -45,12 +54,13 @@ def paper_points():
         steps = int(r["steps"])
         if r["method"] == "acm":
             points.append(("acm", ["--method", "acm", "--steps", str(steps)], float(r["elapsed_s"])))
-        elif r["method"] == "sor" and r["eps"] == "1e-3":
+        elif r["method"] == "sor" and r["eps"] in ("1e-3", "1e-4"):
             ns, nc = int(r["n_sor_total"]) // steps, int(r["n_cn_total"]) // steps
             points.append(("sor", ["--method", "sor", "--comm", "sync", "--ns", str(ns), "--nc", str(nc),
                                    "--steps", str(steps)], float(r["elapsed_s"])))
-    if {p[0] for p in points} != {"acm", "sor"}:
-        raise Error(f"{PAPER}: no one-core sync rows of Table 2 for both acm and sor (sor at 1e-3)")
+    if [p[0] for p in points].count("acm") != 1 or [p[0] for p in points].count("sor") != 2:
+        raise Error(f"{PAPER}: need the one-core sync rows of Table 2 for acm and for sor at 1e-3 and 1e-4")
+    points.sort(key=lambda p: (p[0], int(p[1][p[1].index("--ns") + 1]) if "--ns" in p[1] else 0))
     return points
 
 
@@ -77,17 +87,18 @@ def measured_points(path):
 
 
 def without_efficiency(xml, method):
-    return re.sub(r'\s*<prop id="efficiency:%s" value="[^"]*"/>' % re.escape(method), "", xml)
+    """The platform without efficiency:METHOD and efficiency:METHOD-sweeps."""
+    return re.sub(r'\s*<prop id="efficiency:%s(-sweeps)?" value="[^"]*"/>' % re.escape(method), "", xml)
 
 
-def with_efficiency(xml, method, e):
-    xml = without_efficiency(xml, method)
+def with_efficiency(xml, key, e):
+    xml = re.sub(r'\s*<prop id="efficiency:%s" value="[^"]*"/>' % re.escape(key), "", xml)
     prop = '<prop id="memory_bandwidth"'
     at = xml.find(prop)
     if at < 0:
         raise Error("the platform has no memory_bandwidth property to place the efficiency beside")
     indent = xml[xml.rfind("\n", 0, at) + 1:at]
-    return xml[:at] + f'<prop id="efficiency:{method}" value="{e:.6g}"/>\n' + indent + xml[at:]
+    return xml[:at] + f'<prop id="efficiency:{key}" value="{e:.6g}"/>\n' + indent + xml[at:]
 
 
 def simulate(sim_bin_dir, platform_xml, opts, work):
@@ -106,6 +117,28 @@ def simulate(sim_bin_dir, platform_xml, opts, work):
         return float(list(csv.DictReader(f))[-1]["elapsed_s"])
 
 
+def at_unit_efficiency(sim_bin_dir, xml, method, opts, work):
+    """(R, S): the simulated time of the run at e = 1, less and of its sweeps.  The sweeps'
+    part is what halving their efficiency adds (the CSV's full digits, not the report's)."""
+    bare = without_efficiency(xml, method)
+    whole = simulate(sim_bin_dir, bare, opts, work)
+    sweeps = simulate(sim_bin_dir, with_efficiency(bare, method + "-sweeps", 0.5), opts, work) - whole
+    return whole - sweeps, sweeps
+
+
+def fit_two(points):
+    """e and e_sweeps from [(R, S, T), (R, S, T)]: T = R / e + S / e_sweeps at both."""
+    (r1, s1, t1), (r2, s2, t2) = points
+    det = r1 * s2 - r2 * s1
+    if det == 0:
+        raise Error("the two SOR points give the same split of rest and sweeps: no fit")
+    inv_e, inv_s = (t1 * s2 - t2 * s1) / det, (r1 * t2 - r2 * t1) / det
+    if inv_e <= 0 or inv_s <= 0:
+        raise Error(f"the SOR points need a non-positive efficiency (1/e = {inv_e:.4g}, 1/e_sweeps = {inv_s:.4g}): "
+                    "the model cannot reach both reference times")
+    return 1 / inv_e, 1 / inv_s
+
+
 def main(argv=None):
     ap = argparse.ArgumentParser(prog=PROG, description=__doc__.split("\n\n")[0])
     ap.add_argument("--platform", required=True)
@@ -120,12 +153,23 @@ def main(argv=None):
         points = paper_points() if args.reference == "paper" else measured_points(args.reference)
         fitted = xml
         with tempfile.TemporaryDirectory(prefix="efsi-calibrate-") as work:
-            for method, opts, seconds in points:
-                at_one = simulate(args.sim_bin_dir, without_efficiency(xml, method), opts, work)
-                e = at_one / seconds
-                fitted = with_efficiency(fitted, method, e)
-                print(f"{method}: {' '.join(opts)}: reference {seconds:.4g} s, simulated at e = 1 {at_one:.4g} s, "
-                      f"efficiency {e:.4g}")
+            for method in dict.fromkeys(p[0] for p in points):
+                mine = [p for p in points if p[0] == method]
+                fitted = without_efficiency(fitted, method)
+                runs = []
+                for _, opts, seconds in mine:
+                    rest, sweeps = at_unit_efficiency(args.sim_bin_dir, xml, method, opts, work)
+                    runs.append((rest, sweeps, seconds))
+                    print(f"{method}: {' '.join(opts)}: reference {seconds:.4g} s, simulated at e = 1 "
+                          f"{rest + sweeps:.4g} s (sweeps {sweeps:.4g} s)")
+                if len(mine) == 2:
+                    e, e_sweeps = fit_two(runs)
+                    fitted = with_efficiency(with_efficiency(fitted, method, e), method + "-sweeps", e_sweeps)
+                    print(f"{method}: efficiency {e:.4g}, of its sweeps {e_sweeps:.4g}")
+                else:
+                    e = (runs[0][0] + runs[0][1]) / runs[0][2]
+                    fitted = with_efficiency(fitted, method, e)
+                    print(f"{method}: efficiency {e:.4g}")
         if args.write:
             with open(args.platform, "w") as f:
                 f.write(fitted)

@@ -70,14 +70,16 @@ void init_compute_model() {
 
 void use_efficiency_of(const std::string& method) {
   g_model.efficiency = host_property(("efficiency:" + method).c_str(), 1.0);
+  g_model.sweep_efficiency = host_property(("efficiency:" + method + "-sweeps").c_str(), g_model.efficiency);
 }
 
-void charge_compute(PerCell cost, double cells) {
+void charge_compute(PerCell cost, double cells, Efficiency e) {
   const double F = g_model.core_flops;
   const double share =
       std::min(g_model.core_bandwidth, g_model.node_bandwidth / g_model.sockets / g_model.ranks_on_socket);
   const double by_bytes = cost.bytes * cells * F / share;
-  const double flops = std::max(cost.flops * cells, by_bytes) / g_model.efficiency;
+  const double flops =
+      std::max(cost.flops * cells, by_bytes) / (e == Efficiency::sweeps ? g_model.sweep_efficiency : g_model.efficiency);
   if (flops > 0) smpi_execute_flops(flops);
 }
 
@@ -85,7 +87,7 @@ void charge_compute(PerCell cost, double cells) {
 
 void init_compute_model() {}
 void use_efficiency_of(const std::string&) {}
-void charge_compute(PerCell, double) {}
+void charge_compute(PerCell, double, Efficiency) {}
 
 #endif
 

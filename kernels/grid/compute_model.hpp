@@ -12,7 +12,10 @@
 // of B, the node's ranks filling them in order (Open MPI's by-core placement); C: its
 // property core_bandwidth (B/s one core draws alone: a core reaches a fraction of its
 // node's bandwidth; unlimited when absent); e: the host's property efficiency:<method>, 1
-// when absent.  In the
+// when absent, or, for an iterative solver's sweeps (sweep_stage), efficiency:<method>-sweeps
+// when the host has it: a sweep's few flops a cell over memory reach another fraction of
+// the roofline than the step's stencils, and one-core times at two tolerances tell the two
+// apart (harness/simgrid/calibrate.py).  In the
 // real build the loops run and nothing is charged.  The platform files and their
 // calibration: harness/simgrid/README.md.
 #include <string>
@@ -34,6 +37,7 @@ struct NodeModel {
   int sockets = 1;           // S
   int ranks_on_socket = 0;   // this rank's socket's
   double efficiency = 0;     // e, for the method chosen last
+  double sweep_efficiency = 0;  // e of its solver's sweeps
 };
 
 // Collective over MPI_COMM_WORLD in the simulation build (the ranks on each node); reads the
@@ -44,13 +48,22 @@ void init_compute_model();
 void use_efficiency_of(const std::string& method);
 const NodeModel& node_model();
 
-// Charges `cells` cells of `cost` as this rank's compute time (simulation build only).
-void charge_compute(PerCell cost, double cells);
+// Charges `cells` cells of `cost` as this rank's compute time (simulation build only), at
+// the step's efficiency or at the sweeps'.
+enum class Efficiency { step, sweeps };
+void charge_compute(PerCell cost, double cells, Efficiency e = Efficiency::step);
 
 // A stage's loops in the real build; their modelled time in the simulation build.
 template <class Loops>
 inline void compute_stage(PerCell cost, double cells, Loops&& loops) {
   if constexpr (kSimulated) charge_compute(cost, cells);
+  else loops();
+}
+
+// An iterative solver's sweep: as compute_stage, charged at the sweeps' efficiency.
+template <class Loops>
+inline void sweep_stage(PerCell cost, double cells, Loops&& loops) {
+  if constexpr (kSimulated) charge_compute(cost, cells, Efficiency::sweeps);
   else loops();
 }
 

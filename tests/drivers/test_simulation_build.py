@@ -12,6 +12,8 @@ stages charging their counted work instead of running (kernels/grid/compute_mode
   node fill its first socket's cores and share that socket's bandwidth;
 - with this machine's platform (dev-2core.xml), the model predicts the recorded 1 and 2
   rank ACM times (results/simulated/dev-2core-measured-acm.csv) within 15%;
+- calibrate.py's fit gives the paper's one-core times back (SOR's sweeps at their own
+  efficiency);
 - a simulated SOR step is linear in its sweeps: three short steps extrapolate
   (harness/simgrid/extrapolate_sweeps.py) to the full step a simulation gives;
 - `campaign.py simulate` runs a sweep's points on a platform, appends their rows, and, run
@@ -167,6 +169,30 @@ class SimulationBuild(unittest.TestCase):
                 self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
                 predicted = float(self.row(os.path.join(self.dir, "honest.csv"))["elapsed_s"])
                 self.assertLess(abs(predicted / median - 1), HONEST_WITHIN, (ranks, predicted, median))
+
+    def test_calibration_reproduces_the_papers_one_core_times(self):
+        # calibrate.py --reference paper fits efficiency:acm on ACM's one-core time and, from
+        # SOR's at 1e-3 and 1e-4, efficiency:sor and efficiency:sor-sweeps (the sweeps are
+        # charged at their own): the fitted platform then gives those three times back.
+        platform = os.path.join(self.dir, "fit.xml")
+        with open(platform, "w") as f:
+            f.write(PLATFORM % (10, 20e9, '\n      <prop id="core_bandwidth" value="5e9"/>'))
+        script = os.path.join(ARGS.source_dir, "harness", "simgrid", "calibrate.py")
+        fit = subprocess.run([sys.executable, script, "--platform", platform, "--sim-bin-dir", ARGS.sim_bin_dir,
+                              "--reference", "paper", "--write"], capture_output=True, text=True, timeout=300)
+        self.assertEqual(fit.returncode, 0, fit.stdout + fit.stderr)
+        with open(platform) as f:
+            xml = f.read()
+        for key in ("efficiency:acm", "efficiency:sor", "efficiency:sor-sweeps"):
+            self.assertIn(f'<prop id="{key}"', xml)
+        for args, seconds in ((["--method", "acm", "--steps", "50"], 21.57),
+                              (["--method", "sor", "--comm", "sync", "--ns", "100", "--nc", "20", "--steps", "10"], 24.94),
+                              (["--method", "sor", "--comm", "sync", "--ns", "220", "--nc", "20", "--steps", "10"], 26.81)):
+            with self.subTest(args=" ".join(args)):
+                r = self.run_sim(1, *args, "--csv", "fit.csv", platform=platform)
+                self.assertEqual(r.returncode, 0, r.stdout + r.stderr)
+                self.assertAlmostEqual(float(self.row(os.path.join(self.dir, "fit.csv"))["elapsed_s"]), seconds,
+                                       delta=2e-4 * seconds)
 
     def test_sor_step_is_linear_in_its_sweeps(self):
         # extrapolate_sweeps.py rests on a simulated SOR step being linear in N_S and N_C:

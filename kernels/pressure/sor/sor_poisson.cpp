@@ -106,7 +106,7 @@ void SorPoisson::update(const Field& rhs, double factor, const Stage& stage, con
   if (b.empty()) return;
   if (stage.pair && (b.lo[X] != 0 || b.hi[X] != x_.n()[X]))
     throw std::logic_error("SorPoisson: a fused colour pair needs rows spanning the whole x extent");
-  compute_stage(pass_cost(), double(b.volume()), [&] {
+  sweep_stage(pass_cost(), double(b.volume()), [&] {
     if (stage.pair) update_rows<true>(rhs, factor, stage.colour, b);
     else if (b.hi[X] - b.lo[X] <= 2) update_columns(rhs, factor, stage.colour, b);
     else update_rows<false>(rhs, factor, stage.colour, b);
@@ -200,7 +200,7 @@ void SorPoisson::update_boundary(const Field& rhs, double factor, const Stage& s
   // The simulation build charges the shell's boxes (up to 26) as one: the same modelled
   // time, a twentieth of the simulator's events.
   if constexpr (kSimulated) {
-    charge_compute(pass_cost(), double(owned_.volume() - inner_.volume()));
+    charge_compute(pass_cost(), double(owned_.volume() - inner_.volume()), Efficiency::sweeps);
     return;
   }
   for_each_shell_box(owned_, inner_, [&](const Box& b) { update(rhs, factor, stage, b); });
