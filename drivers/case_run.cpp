@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <iterator>
 #include <optional>
 #include <sstream>
@@ -182,7 +183,41 @@ void check_outputs(const RunRequest& req) {
   check_csv(req.csv);
 }
 
+namespace {
+
+// The particles that reach a block, and how many the case has in all.
+using PlaceParticles = std::function<std::vector<Particle>(const CartDecomposition&, std::size_t& count)>;
+
+RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, const RunRequest& req);
+
+}  // namespace
+
 RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req) {
+  return run_case_placing(
+      c,
+      [&](const CartDecomposition& dec, std::size_t& count) {
+        count = particles.size();
+        return particles_reaching(particles, c.domain, c.particle, dec.offset(), dec.local());
+      },
+      req);
+}
+
+RunOutcome run_case(const ChannelCase& c, const RunRequest& req) {
+  return run_case_placing(
+      c,
+      [&](const CartDecomposition& dec, std::size_t& count) {
+        // The whole lattice lives from here to the return, with no MPI call between: in
+        // the simulation build its 8192 ranks then hold one lattice at a time, not 8192.
+        const std::vector<Particle> all = case_particles(c);
+        count = all.size();
+        return particles_reaching(all, c.domain, c.particle, dec.offset(), dec.local());
+      },
+      req);
+}
+
+namespace {
+
+RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, const RunRequest& req) {
   check_outputs(req);
   init_compute_model();  // the simulation build's node model (compute_model.hpp); nothing otherwise
   use_efficiency_of(c.method.name());
@@ -192,8 +227,8 @@ RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const
   RunOutcome out;
   out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const CartDecomposition& dec = *out.decomp;
-  const std::size_t particle_count = particles.size();
-  particles = particles_reaching(particles, c.domain, c.particle, dec.offset(), dec.local());
+  std::size_t particle_count = 0;
+  const std::vector<Particle> particles = place(dec, particle_count);
   // Before the banner and the first field: a case too big for the node is refused, not
   // started and killed (or swapping) once it has taken the node's memory.
   if (!req.memory_checked) check_node_memory(c, dec.local(), dec.dims(), req.force_memory);
@@ -343,11 +378,13 @@ RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const
   return out;
 }
 
+}  // namespace
+
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
                      const std::string& csv, bool force_memory, const StateOptions& state) {
   int ranks = 1;
   MPI_Comm_size(MPI_COMM_WORLD, &ranks);
-  std::vector<Particle> particles = validate_case(c, ranks, double(steps + 1) * c.solver.dt);
+  check_case(c, ranks, double(steps + 1) * c.solver.dt);
   RunRequest req;
   req.program = program;
   req.experiment = experiment;
@@ -355,7 +392,7 @@ int run_scaling_case(const ChannelCase& c, const std::string& program, const std
   req.csv = csv;
   req.force_memory = force_memory;
   apply_state_options(state, req);
-  return run_case(c, std::move(particles), req).valid ? 0 : 4;
+  return run_case(c, req).valid ? 0 : 4;
 }
 
 }  // namespace efsi

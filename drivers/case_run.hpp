@@ -50,6 +50,9 @@ void check_outputs(const RunRequest& req);
 // when one cannot be written after the run.  `particles`: the whole lattice; each rank keeps
 // those that reach its block (particles_reaching) once its block is known.
 RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req);
+// The same with the case's own lattice (case_particles), built by each rank once its block
+// is known and trimmed before its next MPI call.
+RunOutcome run_case(const ChannelCase& c, const RunRequest& req);
 
 // The scaling drivers' run: validates the case (ConfigError before anything is
 // allocated), runs one warm-up and `steps` measured steps and appends the row to `csv`

@@ -50,6 +50,9 @@ Int3 rank_grid(const ChannelCase& c, int ranks);
 // weak-scaling run (2 particles a rank): checked on every rank it cost each rank 0.25 s at
 // 8192 ranks, and the simulation build 8192 times that.
 std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_end);
+// validate_case's checks alone, and its particles alone (the whole lattice; no MPI).
+void check_case(const ChannelCase& c, int ranks, double t_end);
+std::vector<Particle> case_particles(const ChannelCase& c);
 
 // Allocates and fills the initial state (solid fraction, rest) on `decomp`.
 std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecomposition& decomp,
