@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
 #include <iterator>
 #include <optional>
 #include <sstream>
@@ -185,39 +184,8 @@ void check_outputs(const RunRequest& req) {
 
 namespace {
 
-// The particles that reach a block, and how many the case has in all.
-using PlaceParticles = std::function<std::vector<Particle>(const CartDecomposition&, std::size_t& count)>;
-
-RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, const RunRequest& req);
-
-}  // namespace
-
-RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req) {
-  return run_case_placing(
-      c,
-      [&](const CartDecomposition& dec, std::size_t& count) {
-        count = particles.size();
-        return particles_reaching(particles, c.domain, c.particle, dec.offset(), dec.local());
-      },
-      req);
-}
-
-RunOutcome run_case(const ChannelCase& c, const RunRequest& req) {
-  return run_case_placing(
-      c,
-      [&](const CartDecomposition& dec, std::size_t& count) {
-        // The whole lattice lives from here to the return, with no MPI call between: in
-        // the simulation build its 8192 ranks then hold one lattice at a time, not 8192.
-        const std::vector<Particle> all = case_particles(c);
-        count = all.size();
-        return particles_reaching(all, c.domain, c.particle, dec.offset(), dec.local());
-      },
-      req);
-}
-
-namespace {
-
-RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, const RunRequest& req) {
+// `whole`: the caller's particles, or null for the case's own lattice (case_particles).
+RunOutcome run_case_with(const ChannelCase& c, const std::vector<Particle>* whole, const RunRequest& req) {
   check_outputs(req);
   init_compute_model();  // the simulation build's node model (compute_model.hpp); nothing otherwise
   use_efficiency_of(c.method.name());
@@ -227,8 +195,17 @@ RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, c
   RunOutcome out;
   out.decomp = std::make_unique<CartDecomposition>(MPI_COMM_WORLD, c.domain.cells, kTransportHalo, rank_grid(c, ranks));
   const CartDecomposition& dec = *out.decomp;
+  // Each rank keeps the particles that reach its block.  The case's own lattice lives only
+  // in this block, with no MPI call in it: in the simulation build its 8192 ranks then hold
+  // one lattice at a time, not 8192.
   std::size_t particle_count = 0;
-  const std::vector<Particle> particles = place(dec, particle_count);
+  std::vector<Particle> particles;
+  {
+    std::vector<Particle> built;
+    const std::vector<Particle>& all = whole ? *whole : (built = case_particles(c));
+    particle_count = all.size();
+    particles = particles_reaching(all, c.domain, c.particle, dec.offset(), dec.local());
+  }
   // Before the banner and the first field: a case too big for the node is refused, not
   // started and killed (or swapping) once it has taken the node's memory.
   if (!req.memory_checked) check_node_memory(c, dec.local(), dec.dims(), req.force_memory);
@@ -379,6 +356,12 @@ RunOutcome run_case_placing(const ChannelCase& c, const PlaceParticles& place, c
 }
 
 }  // namespace
+
+RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req) {
+  return run_case_with(c, &particles, req);
+}
+
+RunOutcome run_case(const ChannelCase& c, const RunRequest& req) { return run_case_with(c, nullptr, req); }
 
 int run_scaling_case(const ChannelCase& c, const std::string& program, const std::string& experiment, long steps,
                      const std::string& csv, bool force_memory, const StateOptions& state) {

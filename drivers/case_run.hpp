@@ -49,7 +49,7 @@ void check_outputs(const RunRequest& req);
 // holds the solver (check_node_memory) before allocating; throws OutputError on every rank
 // when one cannot be written after the run.  `particles`: the whole lattice; each rank keeps
 // those that reach its block (particles_reaching) once its block is known.
-RunOutcome run_case(const ChannelCase& c, std::vector<Particle> particles, const RunRequest& req);
+RunOutcome run_case(const ChannelCase& c, const std::vector<Particle>& particles, const RunRequest& req);
 // The same with the case's own lattice (case_particles), built by each rank once its block
 // is known and trimmed before its next MPI call.
 RunOutcome run_case(const ChannelCase& c, const RunRequest& req);
