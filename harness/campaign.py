@@ -29,6 +29,7 @@ import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import campaign_sweeps as sweeps  # noqa: E402
+import paper_tables  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DEFAULT_BIN_DIR = os.path.join(REPO, "build", "bin")
@@ -416,7 +417,7 @@ def cmd_collect(args):
 
 DEFAULT_SIM_BIN_DIR = os.path.join(REPO, "build-simgrid", "bin")
 PLATFORMS = os.path.join(REPO, "harness", "simgrid", "platforms")
-PAPER_TABLES = os.path.join(REPO, "results", "paper", "paper_tables.csv")
+PAPER_TABLES = paper_tables.PAPER_TABLES
 
 
 def platform_file(text):
@@ -435,11 +436,9 @@ def platform_name(path):
 
 
 def paper_sor_sweeps():
-    """The paper's SOR sweeps per step at each tolerance (Table 1): {eps: (N_S, N_C)}."""
-    with open(PAPER_TABLES, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["table"] == "1" and r["method"] == "sor"]
-    return {r["eps"]: (int(r["n_sor_total"]) // int(r["steps"]), int(r["n_cn_total"]) // int(r["steps"]))
-            for r in rows}
+    """The paper's SOR sweeps per step at each weak-scaling tolerance (Table 1): {eps: (N_S, N_C)}."""
+    return {eps: (int(ns), int(nc)) for (experiment, eps), (ns, nc, _) in paper_tables.sor_sweeps().items()
+            if experiment == "weak"}
 
 
 def simulated_args(config):
@@ -447,7 +446,7 @@ def simulated_args(config):
     sweep counts for its tolerance (the calibration point ran them), not this suite's."""
     args = config.driver_args()
     if config.method == "sor" and config.variant:
-        ns_nc = paper_sor_sweeps().get(config.variant)
+        ns_nc = paper_sor_sweeps().get(paper_tables.eps_label(config.variant))
         if ns_nc is None:
             raise UsageError(f"no SOR sweep count in {PAPER_TABLES} for tolerance {config.variant}")
         args += ["--ns", str(ns_nc[0]), "--nc", str(ns_nc[1])]

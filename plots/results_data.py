@@ -15,7 +15,12 @@ import collections
 import csv
 import dataclasses
 import math
+import os
 import statistics
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "harness"))
+from paper_tables import eps_label  # noqa: E402,F401  (one spelling of a tolerance)
 
 REQUIRED = ("experiment", "method", "comm", "eps", "ranks", "threads", "px", "py", "pz", "nx", "ny", "nz",
             "steps", "elapsed_s", "comm_fraction", "valid", "host")
@@ -23,15 +28,6 @@ REQUIRED = ("experiment", "method", "comm", "eps", "ranks", "threads", "px", "py
 
 class DataError(ValueError):
     pass
-
-
-def eps_label(text):
-    """'0.001', '1e-3', '1.0e-03' -> '1e-3'; '' -> ''."""
-    if text is None or str(text).strip() == "":
-        return ""
-    x = float(text)
-    mant, exp = f"{x:.0e}".split("e")
-    return f"{mant}e{int(exp)}"
 
 
 @dataclasses.dataclass(frozen=True, order=True)

@@ -34,9 +34,10 @@ import subprocess
 import sys
 import tempfile
 
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import paper_tables  # noqa: E402
+
 HERE = os.path.dirname(os.path.abspath(__file__))
-ROOT = os.path.dirname(os.path.dirname(HERE))
-PAPER = os.path.join(ROOT, "results", "paper", "paper_tables.csv")
 PROG = "calibrate.py"
 
 
@@ -46,21 +47,22 @@ class Error(Exception):
 
 def paper_points():
     """(method, weak_scaling options, seconds) of Table 2 at one core: ACM, SOR sync at 1e-3
-    and at 1e-4 (in that order)."""
-    with open(PAPER, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["table"] == "2" and r["cores"] == "1" and r["comm"] == "sync"]
+    and at 1e-4 (in that order), SOR at the paper's sweep counts for its tolerance (Table 1)."""
+    sweeps = paper_tables.sor_sweeps()
+    rows = [r for r in paper_tables.rows() if r["table"] == "2" and r["cores"] == "1" and r["comm"] == "sync"]
     points = []
     for r in rows:
         steps = int(r["steps"])
+        eps = paper_tables.eps_label(r["eps"])
         if r["method"] == "acm":
             points.append(("acm", ["--method", "acm", "--steps", str(steps)], float(r["elapsed_s"])))
-        elif r["method"] == "sor" and r["eps"] in ("1e-3", "1e-4"):
-            ns, nc = int(r["n_sor_total"]) // steps, int(r["n_cn_total"]) // steps
-            points.append(("sor", ["--method", "sor", "--comm", "sync", "--ns", str(ns), "--nc", str(nc),
+        elif r["method"] == "sor" and eps in ("1e-3", "1e-4"):
+            ns, nc, _ = sweeps[("weak", eps)]
+            points.append(("sor", ["--method", "sor", "--comm", "sync", "--ns", f"{ns:g}", "--nc", f"{nc:g}",
                                    "--steps", str(steps)], float(r["elapsed_s"])))
     if [p[0] for p in points].count("acm") != 1 or [p[0] for p in points].count("sor") != 2:
-        raise Error(f"{PAPER}: need the one-core sync rows of Table 2 for acm and for sor at 1e-3 and 1e-4")
-    points.sort(key=lambda p: (p[0], int(p[1][p[1].index("--ns") + 1]) if "--ns" in p[1] else 0))
+        raise Error(f"{paper_tables.PAPER_TABLES}: need the one-core sync rows of Table 2 for acm and for sor at 1e-3 and 1e-4")
+    points.sort(key=lambda p: (p[0], float(p[1][p[1].index("--ns") + 1]) if "--ns" in p[1] else 0))
     return points
 
 

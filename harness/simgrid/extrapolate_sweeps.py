@@ -27,8 +27,9 @@ import csv
 import os
 import sys
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-PAPER = os.path.join(ROOT, "results", "paper", "paper_tables.csv")
+sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+import paper_tables  # noqa: E402
+
 PROG = "extrapolate_sweeps.py"
 # The largest relative gap to a full simulation that counts as agreement.  A short async step
 # overlaps its few exchanges less evenly than a full one, so the fit's error grows with the
@@ -40,24 +41,6 @@ AGREE = 0.02
 
 class Error(Exception):
     pass
-
-
-def eps_key(text):
-    """'0.001', '1e-3', '1.0e-03' -> '1e-3'."""
-    if not text:
-        return ""
-    mant, exp = f"{float(text):.0e}".split("e")
-    return f"{mant}e{int(exp)}"
-
-
-def paper_sweeps():
-    """{(experiment, eps): (N_S, N_C, steps)} of the paper's SOR runs (Tables 1 and 3), the
-    sweeps a step as the mean over its steps (the strong case's 1058 in 10 steps: 105.8)."""
-    with open(PAPER, newline="") as f:
-        rows = [r for r in csv.DictReader(f) if r["table"] in ("1", "3") and r["method"] == "sor"]
-    return {(r["experiment"], eps_key(r["eps"])): (int(r["n_sor_total"]) / int(r["steps"]),
-                                                   int(r["n_cn_total"]) / int(r["steps"]), int(r["steps"]))
-            for r in rows}
 
 
 def read_rows(path):
@@ -95,44 +78,49 @@ def main(argv=None):
     ap.add_argument("--full", help="simulated steps at the paper's counts, to check the extrapolation against")
     args = ap.parse_args(argv)
     try:
-        sweeps = paper_sweeps()
+        sweeps = paper_tables.sor_sweeps()
+        # A short step runs its --ns and --nc whatever its --eps: one set of three serves
+        # every tolerance of its experiment.
         groups = collections.defaultdict(dict)
         for r in read_rows(args.parts):
-            key = (r["experiment"], r["simulated"], r["comm"], eps_key(r["eps"]), int(r["ranks"]))
+            key = (r["experiment"], r["simulated"], r["comm"], int(r["ranks"]))
             groups[key][(int(r["ns_per_step"]), int(r["nc_per_step"]))] = r
         if not groups:
             raise Error(f"{args.parts}: no valid SOR rows")
         full = {}
         for r in read_rows(args.full) if args.full else []:
-            key = (r["experiment"], r["simulated"], r["comm"], eps_key(r["eps"]), int(r["ranks"]))
+            key = (r["experiment"], r["simulated"], r["comm"], int(r["ranks"]))
             full[(key, int(r["ns_per_step"]), int(r["nc_per_step"]))] = per_step(r, "elapsed_s")
         worst, checked = 0.0, 0
-        current = None
+        tables = collections.defaultdict(list)
         for key in sorted(groups):
-            experiment, platform, comm, eps, ranks = key
-            if (experiment, eps) not in sweeps:
-                raise Error(f"no {experiment} SOR sweep counts in {PAPER} for tolerance {eps}")
-            ns, nc, steps = sweeps[(experiment, eps)]
+            experiment, platform, comm, ranks = key
             if len(groups[key]) < 3:  # a campaign still under way
-                print(f"{PROG}: {ranks} ranks, SOR {comm} {eps}: {len(groups[key])} of 3 short steps, left out",
+                print(f"{PROG}: {experiment} {ranks} ranks, SOR {comm}: {len(groups[key])} of 3 short steps, left out",
                       file=sys.stderr)
                 continue
+            tolerances = sorted(e for (x, e) in sweeps if x == experiment)
+            if not tolerances:
+                raise Error(f"no {experiment} SOR sweep counts in {paper_tables.PAPER_TABLES}")
             value = fit(groups[key])
-            t = value("elapsed_s", ns, nc)
-            comm_s = value("comm_s", ns, nc)
-            if (experiment, platform, comm, eps) != current:
-                current = (experiment, platform, comm, eps)
-                print(f"\n### SOR {experiment} {comm} {eps} on {platform}, extrapolated to N_S = {ns:g}, N_C = {nc:g}\n")
-                print(f"| ranks | rank grid | extrapolated (s, {steps} steps) | full simulation (s) | comm fraction |")
-                print("|---|---|---|---|---|")
             row = next(iter(groups[key].values()))
-            simulated = full.get((key, int(ns), int(nc))) if ns == int(ns) and nc == int(nc) else None
-            shown = ""
-            if simulated is not None:
-                gap = abs(t / simulated - 1)
-                worst, checked = max(worst, gap), checked + 1
-                shown = f"{simulated * steps:.2f} (gap {gap:.2%})"
-            print(f"| {ranks} | {row['px']}x{row['py']}x{row['pz']} | {t * steps:.2f} | {shown} | {comm_s / t:.3f} |")
+            for eps in tolerances:
+                ns, nc, steps = sweeps[(experiment, eps)]
+                t = value("elapsed_s", ns, nc)
+                comm_s = value("comm_s", ns, nc)
+                simulated = full.get((key, int(ns), int(nc))) if ns == int(ns) and nc == int(nc) else None
+                shown = ""
+                if simulated is not None:
+                    gap = abs(t / simulated - 1)
+                    worst, checked = max(worst, gap), checked + 1
+                    shown = f"{simulated * steps:.2f} (gap {gap:.2%})"
+                tables[(experiment, platform, comm, eps, ns, nc, steps)].append(
+                    f"| {ranks} | {row['px']}x{row['py']}x{row['pz']} | {t * steps:.2f} | {shown} | {comm_s / t:.3f} |")
+        for (experiment, platform, comm, eps, ns, nc, steps), lines in sorted(tables.items()):
+            print(f"\n### SOR {experiment} {comm} {eps} on {platform}, extrapolated to N_S = {ns:g}, N_C = {nc:g}\n")
+            print(f"| ranks | rank grid | extrapolated (s, {steps} steps) | full simulation (s) | comm fraction |")
+            print("|---|---|---|---|---|")
+            print("\n".join(lines))
         print()
         if args.full:
             if checked == 0:
