@@ -146,6 +146,7 @@ RunRecord run_record(const ChannelCase& c, const RunRequest& req, const CartDeco
   r.steps = req.total_steps - 1;
   r.dt = c.solver.dt;
   r.ns_per_step = cell("ns_per_step");
+  r.sweeps_per_exchange = cell("sweeps_per_exchange");
   if (c.solver.cn_sweeps > 0) r.nc_per_step = std::to_string(c.solver.cn_sweeps);
   r.timing = rep;
   r.div_rms = div_rms;

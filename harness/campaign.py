@@ -446,21 +446,29 @@ def simulated_args(config):
     sweep counts for its tolerance (the calibration point ran them), not this suite's."""
     args = config.driver_args()
     if config.method == "sor" and config.variant:
-        ns_nc = paper_sor_sweeps().get(paper_tables.eps_label(config.variant))
+        tolerance = config.variant.split("-k")[0]  # "1e-3-k4": 1e-3 with temporal blocking
+        ns_nc = paper_sor_sweeps().get(paper_tables.eps_label(tolerance))
         if ns_nc is None:
             raise UsageError(f"no SOR sweep count in {PAPER_TABLES} for tolerance {config.variant}")
         args += ["--ns", str(ns_nc[0]), "--nc", str(ns_nc[1])]
     return args
 
 
+def blocking_of(text):
+    """SOR's sweeps between exchanges as a key: '' for the paper's pattern (1, or a row from
+    before the column) and for the other methods."""
+    return "" if text in (None, "", "1") else text
+
+
 def done_points(csv_path):
-    """(experiment, method, comm, ns_per_step, ranks, simulated, halo) of the rows already in
-    the CSV: a campaign stopped part-way goes on where it stopped."""
+    """(experiment, method, comm, ns_per_step, ranks, simulated, halo, sweeps between exchanges)
+    of the rows already in the CSV: a campaign stopped part-way goes on where it stopped."""
     if not os.path.exists(csv_path):
         return set()
     with open(csv_path, newline="") as f:
         return {(r["experiment"], r["method"], r["comm"], r["ns_per_step"], r["ranks"], r["simulated"],
-                 r.get("halo", "")) for r in csv.DictReader(f) if r.get("valid") == "1"}
+                 r.get("halo", ""), blocking_of(r.get("sweeps_per_exchange")))
+                for r in csv.DictReader(f) if r.get("valid") == "1"}
 
 
 def cmd_simulate(args):
@@ -489,7 +497,8 @@ def cmd_simulate(args):
             for config in configs:
                 drv_args = simulated_args(config) + ["--halo", args.halo]
                 ns = drv_args[drv_args.index("--ns") + 1] if "--ns" in drv_args else ""
-                key = (sweep.experiment, config.method, config.comm, ns, str(ranks), name, args.halo)
+                spe = drv_args[drv_args.index("--sweeps-per-exchange") + 1] if "--sweeps-per-exchange" in drv_args else ""
+                key = (sweep.experiment, config.method, config.comm, ns, str(ranks), name, args.halo, blocking_of(spe))
                 runs.append((sweep, ranks, config, drv_args, extra, key in done))
     failed = 0
     for n, (sweep, ranks, config, drv_args, extra, skip) in enumerate(runs, 1):

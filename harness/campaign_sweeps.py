@@ -25,6 +25,9 @@ PAPER_CONFIGS = ("acm-sync", "sor-sync-1e-3", "sor-async-1e-3", "sor-sync-1e-4",
 # The comparison the paper left open: SMAC with multigrid at its calibrated V-cycle counts,
 # the same tolerances as SOR's.  The cluster sweeps run it beside the paper's five.
 OPEN_QUESTION_CONFIGS = ("mg-sync-1e-3", "mg-sync-1e-4")
+# SOR with temporal blocking (4 sweeps between exchanges, --sweeps-per-exchange): not the
+# paper's pattern, the same N_S; an extra series beside the paper's.
+BLOCKED_CONFIGS = ("sor-sync-1e-3-k4", "sor-async-1e-3-k4", "sor-sync-1e-4-k4", "sor-async-1e-4-k4")
 ALL = "all"  # a sweep's configurations: every registered method, halo mode and variant
 
 
@@ -180,10 +183,11 @@ def _sweep(name, driver, experiment, ranks, configs, options, description):
 # at dt 1.25e-5, SOR 10 steps at 6.25e-5, calibrated N_S, N_C = 20), so the cluster sweeps
 # pass no size options.
 SWEEPS = {
-    "weak": _sweep("weak", "weak_scaling", "weak", powers_of_two(1, 8192), PAPER_CONFIGS + OPEN_QUESTION_CONFIGS,
+    "weak": _sweep("weak", "weak_scaling", "weak", powers_of_two(1, 8192),
+                   PAPER_CONFIGS + OPEN_QUESTION_CONFIGS + BLOCKED_CONFIGS,
                    (), "paper section 3.2: 64^3 cells and 2 particles per rank, 1 to 8192 ranks"),
     "strong": _sweep("strong", "strong_scaling", "strong", powers_of_two(1024, 8192),
-                     PAPER_CONFIGS + OPEN_QUESTION_CONFIGS, ("--scale", "1"),
+                     PAPER_CONFIGS + OPEN_QUESTION_CONFIGS + BLOCKED_CONFIGS, ("--scale", "1"),
                      "paper section 3.3: 2048 x 1024 x 1024 cells, 16384 particles, 1024 to 8192 ranks"),
     # This machine: the same block per rank on 1 and 2 ranks, every registered method and mode.
     "local-weak": _sweep("local-weak", "weak_scaling", "weak", (1, 2), (ALL,), (),

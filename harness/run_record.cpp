@@ -108,7 +108,8 @@ const std::vector<std::string>& csv_columns() {
                                                 "simulated",
                                                 "mpi_messages_per_step",
                                                 "mpi_bytes_per_step",
-                                                "halo"};
+                                                "halo",
+                                                "sweeps_per_exchange"};
   return cols;
 }
 
@@ -130,7 +131,8 @@ std::string csv_row(const RunRecord& r) {
     << clean(r.layout.omp_num_threads) << ',' << clean(r.layout.omp_places) << ',' << clean(r.layout.omp_proc_bind)
     << ',' << clean(r.layout.cores) << ',' << clean(r.integrator) << ',' << (r.pressure_iterations > 0 ? num(r.pressure_iterations) : std::string()) << ','
     << num(r.pressure_setup_s) << ',' << (r.layout.cores_shared ? 1 : 0) << ',' << clean(r.simulated) << ','
-    << num(r.mpi_messages_per_step) << ',' << num(r.mpi_bytes_per_step) << ',' << clean(r.halo) << '\n';
+    << num(r.mpi_messages_per_step) << ',' << num(r.mpi_bytes_per_step) << ',' << clean(r.halo) << ','
+    << clean(r.sweeps_per_exchange) << '\n';
   return o.str();
 }
 

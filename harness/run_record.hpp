@@ -30,6 +30,7 @@ struct RunRecord {
   std::string simulated;  // the platform of a simulation-build run; "" for a measured one
   // Point-to-point messages and their bytes in a measured step, summed over the ranks.
   double mpi_messages_per_step = 0, mpi_bytes_per_step = 0;
+  std::string sweeps_per_exchange;  // SOR's temporal blocking K; empty where it does not apply
 };
 
 // The git revision the programs were built from ("unknown" outside a git checkout).
@@ -37,7 +38,8 @@ std::string build_revision();
 
 // The section-8 columns in order, then the suite's own: oversubscribed, omp_num_threads,
 // omp_places, omp_proc_bind, cores (hybrid_layout.hpp), integrator, pressure_iterations,
-// pressure_setup_s, cores_shared, simulated, mpi_messages_per_step, mpi_bytes_per_step, halo.
+// pressure_setup_s, cores_shared, simulated, mpi_messages_per_step, mpi_bytes_per_step, halo,
+// sweeps_per_exchange.
 const std::vector<std::string>& csv_columns();
 std::string csv_header();  // the columns joined by commas, no newline
 

@@ -62,6 +62,8 @@ def assign_styles(*series_lists):
 
 def style(config, setup_index=0):
     slot = STYLE_SLOTS.get((config.method, config.eps), len(STYLE_SLOTS))
+    if config.blocking:  # the blocked SOR series in colours of their own
+        slot += len(STYLE_SLOTS) + 1
     colour, marker = COLOURS[slot % len(COLOURS)], MARKERS[slot % len(MARKERS)]
     face = colour if config.comm == "sync" else "white"
     return dict(color=colour, marker=marker, markerfacecolor=face, markeredgecolor=colour,

@@ -35,16 +35,19 @@ class Config:
     method: str
     comm: str
     eps: str
+    blocking: str = ""  # SOR's sweeps between exchanges; "" for the paper's pattern (1)
 
     @property
     def label(self):
         eps = f" eps={self.eps}" if self.eps else ""
-        return f"{self.method.upper()} {self.comm}{eps}"
+        blocking = f" K={self.blocking}" if self.blocking else ""
+        return f"{self.method.upper()} {self.comm}{eps}{blocking}"
 
     @property
     def sort_key(self):
-        # By method, then tolerance; sync before async, as in the paper's columns.
-        return (self.method, self.eps, self.comm != "sync", self.comm)
+        # By method, then tolerance; sync before async, as in the paper's columns; the
+        # blocked series after the paper's pattern.
+        return (self.method, self.eps, self.blocking, self.comm != "sync", self.comm)
 
 
 @dataclasses.dataclass(frozen=True, order=True)
@@ -122,7 +125,8 @@ def read_rows(paths):
 
 def config_of(row):
     # A method that stops on a tolerance fills the eps column; the others leave it empty.
-    return Config(row["method"], row["comm"], eps_label(row["eps"]))
+    blocking = row.get("sweeps_per_exchange") or ""
+    return Config(row["method"], row["comm"], eps_label(row["eps"]), "" if blocking == "1" else blocking)
 
 
 def setup_of(row, experiment):

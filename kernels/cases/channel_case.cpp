@@ -118,7 +118,7 @@ std::vector<Particle> validate_case(const ChannelCase& c, int ranks, double t_en
 
 std::unique_ptr<FsiSolver> build_solver(const ChannelCase& c, const CartDecomposition& decomp,
                                         const std::vector<Particle>& particles) {
-  auto pressure = c.method.spec->make(c.method, MethodBuild{c.solver.comm, c.timed_planning});
+  auto pressure = c.method.spec->make(c.method, MethodBuild{c.solver.comm, c.solver.halo, c.timed_planning});
   auto solver = std::make_unique<FsiSolver>(decomp, c.domain, c.solver, std::move(pressure));
   Field& phi = solver->state().phi();
   setup_stage([&] {

@@ -77,6 +77,9 @@ class HaloExchange {
   bool face_current_at_begin(int axis, int side) const {
     return peer_[kSelf + side * (axis == 0 ? 1 : axis == 1 ? 3 : 9)] == self_ && round_of_axis_[axis] <= 0;
   }
+  // Phased: the round (0, 1, 2) that carries the faces of `axis`, packed only when the
+  // rounds before it are done; -1 where every message is packed by begin().
+  int round_of_axis(int axis) const { return round_of_axis_[axis]; }
   std::size_t bytes_sent_mpi() const { return mpi_doubles_ * sizeof(double); }  // per call, this rank
   int rounds() const { return rounds_; }  // rounds of messages that wait for each other
   std::size_t bytes_copied_local() const { return local_doubles_ * sizeof(double); }

@@ -46,7 +46,7 @@ TEXT_COLUMNS = ("host", "mpi", "compiler", "git_sha")
 # The suite's columns after section 8's: the hybrid layout (harness/hybrid_layout.hpp).
 SUITE_COLUMNS = ["oversubscribed", "omp_num_threads", "omp_places", "omp_proc_bind", "cores", "integrator",
                  "pressure_iterations", "pressure_setup_s", "cores_shared",
-                 "simulated", "mpi_messages_per_step", "mpi_bytes_per_step", "halo"]
+                 "simulated", "mpi_messages_per_step", "mpi_bytes_per_step", "halo", "sweeps_per_exchange"]
 
 class Result:
     def __init__(self, rc, out, err, timed_out, seconds):

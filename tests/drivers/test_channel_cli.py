@@ -61,6 +61,11 @@ class BadInput(ChannelTestCase):
         (SMALL + ["--halo", "corners"], [r"--halo", r"\bcorners\b", r"direct", r"phased"]),
         (SMALL + ["--method", "sor", "--eps", "1e-5"], [r"--eps", r"1e-05", r"1e-3", r"1e-4"]),
         (SMALL + ["--method", "sor", "--ns", "0"], [r"--ns", r"\b0\b", r"at least 1"]),
+        (SMALL + ["--method", "sor", "--sweeps-per-exchange", "0"], [r"--sweeps-per-exchange", r"\b0\b", r"at least 1"]),
+        # 9 sweeps: ghosts 18 deep on a 16-cell periodic z; at most 8 fit.
+        (SMALL + ["--method", "sor", "--sweeps-per-exchange", "9"],
+         [r"--sweeps-per-exchange", r"\b9\b", r"\b18\b", r"\b16\b", r"limit here is 8"]),
+        (SMALL + ["--method", "fft", "--sweeps-per-exchange", "2"], [r"--sweeps-per-exchange", r"\bsor\b"]),
         (SMALL + ["--method", "sor", "--nc", "-1"], [r"--nc", r"-1\b"]),
         (SMALL + ["--method", "sor", "--eps", "2"], [r"--eps", r"\b2\b", r"\(0, 1\)"]),
         (SMALL + ["--method", "sor", "--calibrate", "--max-sweeps", "0"], [r"--max-sweeps", r"\b0\b"]),

@@ -33,7 +33,9 @@ CAMPAIGN = os.path.join(REPO, "harness", "campaign.py")
 BIN_DIR = os.environ.get("EFSI_BIN_DIR", "")
 MPIEXEC = os.environ.get("EFSI_MPIEXEC") or shutil.which("mpiexec") or shutil.which("mpirun") or "mpirun"
 PAPER_CONFIGS = ["acm-sync", "sor-sync-1e-3", "sor-async-1e-3", "sor-sync-1e-4", "sor-async-1e-4"]
-CLUSTER_CONFIGS = PAPER_CONFIGS + ["mg-sync-1e-3", "mg-sync-1e-4"]  # and the multigrid the paper left open
+# and the multigrid the paper left open, and SOR with temporal blocking (4 sweeps an exchange)
+CLUSTER_CONFIGS = PAPER_CONFIGS + ["mg-sync-1e-3", "mg-sync-1e-4", "sor-sync-1e-3-k4", "sor-async-1e-3-k4",
+                                   "sor-sync-1e-4-k4", "sor-async-1e-4-k4"]
 CONFIG_ARGS = {  # the driver options each configuration must pass
     "acm-sync": "--method acm --comm sync",
     "sor-sync-1e-3": "--method sor --comm sync --eps 1e-3",
@@ -42,6 +44,10 @@ CONFIG_ARGS = {  # the driver options each configuration must pass
     "sor-async-1e-4": "--method sor --comm async --eps 1e-4",
     "mg-sync-1e-3": "--method mg --comm sync --eps 1e-3 --mg-iters 5",
     "mg-sync-1e-4": "--method mg --comm sync --eps 1e-4 --mg-iters 7",
+    "sor-sync-1e-3-k4": "--method sor --comm sync --eps 1e-3 --sweeps-per-exchange 4",
+    "sor-async-1e-3-k4": "--method sor --comm async --eps 1e-3 --sweeps-per-exchange 4",
+    "sor-sync-1e-4-k4": "--method sor --comm sync --eps 1e-4 --sweeps-per-exchange 4",
+    "sor-async-1e-4-k4": "--method sor --comm async --eps 1e-4 --sweeps-per-exchange 4",
 }
 
 

@@ -18,8 +18,9 @@ void check_sor_sweeps(double sweeps, const std::string& what);
 
 class SmacSorPressure final : public PressureMethod {
  public:
-  // sweeps: N_S per step (>= 1).
-  SmacSorPressure(CommMode comm, int sweeps, double omega = paper::kSorOmega);
+  // sweeps: N_S per step (>= 1); sweeps_per_exchange and halo: SorPoisson's.
+  SmacSorPressure(CommMode comm, int sweeps, double omega = paper::kSorOmega, int sweeps_per_exchange = 1,
+                  HaloPattern halo = HaloPattern::direct);
   void attach(const CartDecomposition& decomp, const Domain& domain, FsiWork& work, RegionTimers& timers) override;
   void increment(PressureInputs& in) override;
   const PressureReport& report() const override { return report_; }
@@ -29,6 +30,8 @@ class SmacSorPressure final : public PressureMethod {
   CommMode comm_;
   int sweeps_;
   double omega_;
+  int sweeps_per_exchange_;
+  HaloPattern halo_;
   std::unique_ptr<SorPoisson> sor_;
   PressureReport report_;
 };

@@ -22,6 +22,17 @@
 //          (the final wait) against the sync mode's blocking halo_mpi.
 // The whole field travels each time, less its x faces between fused passes (sending only
 // the updated colour would halve it).
+//
+// Temporal blocking (sweeps_per_exchange K > 1, not the paper's pattern): the K sweeps'
+// passes run between two exchanges of a private copy of x (and of rhs, sent once with the
+// first) whose ghosts are 2K deep, with edges and corners.  Each pass updates the owned
+// points and, beyond each face but a wall (and a fused row's own x ends), the ghosts whose
+// neighbours still hold the owner's values (a sweep costs two layers: group_boxes), so the
+// owned points get bitwise the values of the exchange after every pass, and the ghosts that
+// went stale are never read.  The passes of a group go as a wavefront
+// over z planes, so a plane is read from memory about once a group, not once a pass.
+// Exchanges per call: ceil(n / K) + 1 instead of n x passes + 1.  Async overlaps each
+// exchange with the first pass's interior.
 #include <memory>
 #include <vector>
 
@@ -47,8 +58,12 @@ class SorPoisson {
   // x: cell-centred, halo >= 1, WallParity::even, on `decomp`.  Throws ConfigError (on
   // every rank alike, before any communication) for odd global x or z counts, a domain
   // that does not match the decomposition, or an unsuitable field.
+  // sweeps_per_exchange: K >= 1 (1: the paper's exchange after every pass); its ghost depth
+  // 2K must not exceed the smallest local extent along an axis the passes grow along
+  // (ConfigError).  halo: how the blocked exchanges reach edges and corners.
   SorPoisson(const CartDecomposition& decomp, const Domain& domain, Field& x, CommMode comm,
-             RegionTimers* timers = nullptr, double omega = paper::kSorOmega);
+             RegionTimers* timers = nullptr, double omega = paper::kSorOmega, int sweeps_per_exchange = 1,
+             HaloPattern halo = HaloPattern::direct);
   SorPoisson(const SorPoisson&) = delete;
   SorPoisson& operator=(const SorPoisson&) = delete;
 
@@ -63,6 +78,7 @@ class SorPoisson {
   static int colour(int gi, int gj, int gk) { return (gi & 1) + 2 * ((gj + gk) & 1); }
 
   double omega() const { return omega_; }
+  int sweeps_per_exchange() const { return k_; }
   CommMode comm_mode() const { return comm_; }
   const HaloExchange& halo() const { return halo_; }
 
@@ -77,9 +93,17 @@ class SorPoisson {
   void update(const Field& rhs, double factor, const Stage& stage, const Box& box);
   template <bool kPair>
   void update_rows(const Field& rhs, double factor, int colour, const Box& box);
+  template <bool kPair>
+  void rows_in_team(const Field& rhs, double factor, int colour, const Box& box);
   void update_columns(const Field& rhs, double factor, int colour, const Box& box);
-  void update_interior(const Field& rhs, double factor, const Stage& stage, HaloExchange& flight);
-  void update_boundary(const Field& rhs, double factor, const Stage& stage);
+  void update_interior(const Field& rhs, double factor, const Stage& stage, HaloExchange& flight, const Box& inner);
+  void update_boundary(const Field& rhs, double factor, const Stage& stage, const Box& outer, const Box& inner);
+  void blocked_sweeps(const Field& rhs, int n, double factor);
+  // The box of each pass of a group of `sweeps` sweeps: the owned points and the ghosts whose
+  // update is still the owner's (growing only where grows_lo_ / grows_hi_ say).
+  std::vector<Box> group_boxes(int sweeps) const;
+  // Passes first .. of a group on the blocked fields, pass m over boxes[m].
+  void blocked_passes(const Field& rhs, double factor, int first, const std::vector<Box>& boxes);
 
   const CartDecomposition& decomp_;
   Field& x_;
@@ -87,9 +111,16 @@ class SorPoisson {
   RegionTimers* timers_;
   double omega_;
   double inv_h2_[3];
-  // Per local j: weights of the y neighbours below/above (0 across a wall) and omega / diag.
+  // Per local j from -depth_: weights of the y neighbours below/above (0 across a wall) and
+  // omega / diag.
   std::vector<double> wy_lo_, wy_hi_, omega_over_diag_;
-  Box owned_, inner_;
+  int k_ = 1;
+  int depth_ = 0;  // the blocked fields' ghost depth: 2 k_ (0: not blocked)
+  bool grows_lo_[3]{}, grows_hi_[3]{};
+  std::unique_ptr<Field> xw_, rw_;
+  std::unique_ptr<HaloExchange> wide_first_, wide_x_;  // x and rhs, then x alone
+  Field* xs_;  // the field the passes update: x_, or xw_ when blocked
+  Box owned_, inner_, blocked_inner_;
   std::vector<Stage> stages_;
   HaloExchange halo_;
   // Between fused stages: y and z only.  A fused row is the whole periodic x extent and sets

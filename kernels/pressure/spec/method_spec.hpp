@@ -16,6 +16,7 @@
 #include "domain.hpp"
 #include "field.hpp"
 #include "grid_types.hpp"
+#include "halo_exchange.hpp"
 #include "pressure_method.hpp"
 #include "work_count.hpp"
 
@@ -89,6 +90,7 @@ struct MethodChoice {
 // What building a method needs besides its choice.
 struct MethodBuild {
   CommMode comm = CommMode::sync;
+  HaloPattern halo = HaloPattern::direct;  // how a method's own full exchanges reach edges and corners
   // Whether the method may pick among equivalent algorithms by timing them (FFTW_MEASURE).
   // The bitwise tests and the counted CI gate need the same choice every run.
   bool timed_planning = true;
