@@ -8,6 +8,7 @@
 
 #include "compute_model.hpp"
 #include "config_error.hpp"
+#include "first_failure.hpp"
 #include "time_step_limits.hpp"
 
 namespace efsi {
@@ -73,12 +74,8 @@ void check_particles_once(const ChannelCase& c) {
       failure = e.what();
     }
   }
-  int length = static_cast<int>(failure.size());
-  MPI_Bcast(&length, 1, MPI_INT, 0, MPI_COMM_WORLD);
-  if (length == 0) return;
-  failure.resize(static_cast<std::size_t>(length));
-  MPI_Bcast(failure.data(), length, MPI_CHAR, 0, MPI_COMM_WORLD);
-  throw ConfigError(failure);
+  const std::string first = first_failure(MPI_COMM_WORLD, failure);
+  if (!first.empty()) throw ConfigError(first);
 }
 
 }  // namespace

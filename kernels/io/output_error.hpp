@@ -15,7 +15,8 @@ class OutputError : public std::runtime_error {
 };
 
 // Collective over `comm`: `failure` is this rank's reason, empty when it succeeded.  When
-// any rank failed, every rank throws OutputError with the lowest failing rank's reason.
+// any rank failed, every rank throws OutputError with the lowest failing rank's reason
+// (first_failure.hpp).
 void agree_on_failure(MPI_Comm comm, const std::string& failure);
 
 }  // namespace efsi
