@@ -3,6 +3,9 @@
 #include <cmath>
 
 #include <cstdio>
+#include <initializer_list>
+#include <string>
+#include <utility>
 
 #include "config_error.hpp"
 #include "driver_support.hpp"
@@ -83,19 +86,29 @@ void apply_physics_options(double G, double force, double solid_cutoff, ChannelC
   c.solver.physics.solid_cutoff = solid_cutoff;
 }
 
+namespace {
+
+// The value a keyword option names, or ConfigError naming the option, the word and the choices.
+template <class Value>
+Value keyword(const std::string& flag, const std::string& word,
+              std::initializer_list<std::pair<const char*, Value>> choices) {
+  std::string expected;
+  std::size_t i = 0;
+  for (const auto& [name, value] : choices) {
+    if (word == name) return value;
+    if (i > 0) expected += i + 1 == choices.size() ? " or " : ", ";
+    expected += name;
+    ++i;
+  }
+  throw ConfigError("unknown " + flag + " '" + word + "': expected " + expected);
+}
+
+}  // namespace
+
 void apply_method_options(const MethodOptions& o, ChannelCase& c, double default_dt, bool calibrating) {
-  if (o.comm == "sync")
-    c.solver.comm = CommMode::sync;
-  else if (o.comm == "async")
-    c.solver.comm = CommMode::async;
-  else
-    throw ConfigError("unknown --comm '" + o.comm + "': expected sync or async");
-  if (o.halo == "direct")
-    c.solver.halo = HaloPattern::direct;
-  else if (o.halo == "phased")
-    c.solver.halo = HaloPattern::phased;
-  else
-    throw ConfigError("unknown --halo '" + o.halo + "': expected direct or phased");
+  c.solver.comm = keyword<CommMode>("--comm", o.comm, {{"sync", CommMode::sync}, {"async", CommMode::async}});
+  c.solver.halo =
+      keyword<HaloPattern>("--halo", o.halo, {{"direct", HaloPattern::direct}, {"phased", HaloPattern::phased}});
   choose_method(c, configure_method(o.method, o.given(), o.nc, calibrating));
   if (!c.method.spec->supports(c.solver.comm))
     throw ConfigError("--method " + o.method + " does not take --comm " + o.comm);
