@@ -187,14 +187,16 @@ struct SorStencil {
 };
 
 void SorPoisson::update(const Field& rhs, double factor, const Stage& stage, const Box& b) {
+  sweep_stage(pass_cost(), double(b.volume()), [&] { update_loops(rhs, factor, stage, b); });
+}
+
+void SorPoisson::update_loops(const Field& rhs, double factor, const Stage& stage, const Box& b) {
   if (b.empty()) return;
   if (stage.pair && (b.lo[X] != 0 || b.hi[X] != xs_->n()[X]))
     throw std::logic_error("SorPoisson: a fused colour pair needs rows spanning the whole x extent");
-  sweep_stage(pass_cost(), double(b.volume()), [&] {
-    if (stage.pair) update_rows<true>(rhs, factor, stage.colour, b);
-    else if (b.hi[X] - b.lo[X] <= 2) update_columns(rhs, factor, stage.colour, b);
-    else update_rows<false>(rhs, factor, stage.colour, b);
-  });
+  if (stage.pair) update_rows<true>(rhs, factor, stage.colour, b);
+  else if (b.hi[X] - b.lo[X] <= 2) update_columns(rhs, factor, stage.colour, b);
+  else update_rows<false>(rhs, factor, stage.colour, b);
 }
 
 template <bool kPair>
@@ -298,25 +300,24 @@ void SorPoisson::update_interior(const Field& rhs, double factor, const Stage& s
 void SorPoisson::update_boundary(const Field& rhs, double factor, const Stage& stage, const Box& outer,
                                  const Box& inner) {
   RegionTimers::Scope t(timers_, kSorSweepsRegion);
-  // The simulation build charges the shell's boxes (up to 26) as one: the same modelled
-  // time, a twentieth of the simulator's events.
-  if constexpr (kSimulated) {
-    charge_compute(pass_cost(), double(outer.volume() - inner.volume()), Efficiency::sweeps);
-    return;
-  }
-  for_each_shell_box(outer, inner, [&](const Box& b) { update(rhs, factor, stage, b); });
+  // The shell's boxes (up to 26) are one stage: in the simulation build one charge, the
+  // same modelled time in a twentieth of the simulator's events.
+  sweep_stage(pass_cost(), double(outer.volume() - inner.volume()), [&] {
+    for_each_shell_box(outer, inner, [&](const Box& b) { update_loops(rhs, factor, stage, b); });
+  });
 }
 
 void SorPoisson::blocked_passes(const Field& rhs, double factor, int first, const std::vector<Box>& boxes) {
   RegionTimers::Scope t(timers_, kSorSweepsRegion);
   const int p = static_cast<int>(boxes.size());
-  // The simulation build charges the group's passes as one: no loops run there.
-  if constexpr (kSimulated) {
-    double cells = 0;
-    for (int m = first; m < p; ++m) cells += double(boxes[m].volume());
-    charge_compute(pass_cost(), cells, Efficiency::sweeps);
-    return;
-  }
+  double cells = 0;
+  for (int m = first; m < p; ++m) cells += double(boxes[m].volume());
+  // The group's passes are one stage (one charge in the simulation build).
+  sweep_stage(pass_cost(), cells, [&] { wavefront(rhs, factor, first, boxes); });
+}
+
+void SorPoisson::wavefront(const Field& rhs, double factor, int first, const std::vector<Box>& boxes) {
+  const int p = static_cast<int>(boxes.size());
   // A wavefront over z planes: pass m takes plane k after pass m - 1 has taken k + 1 and
   // before pass m + 1 takes k - 1.  What pass m reads at planes k and k +- 1 was last written
   // by a pass m' < m at a step m' + k' < m + k (or the same step, m' = m - 1, k' = k + 1,

@@ -90,7 +90,10 @@ class SorPoisson {
     bool pair;
   };
   PerCell pass_cost() const;
+  // One pass's points in `box`: a stage of its own (update) or the loops alone, for a caller
+  // that charges several boxes as one stage.
   void update(const Field& rhs, double factor, const Stage& stage, const Box& box);
+  void update_loops(const Field& rhs, double factor, const Stage& stage, const Box& box);
   template <bool kPair>
   void update_rows(const Field& rhs, double factor, int colour, const Box& box);
   template <bool kPair>
@@ -104,6 +107,7 @@ class SorPoisson {
   std::vector<Box> group_boxes(int sweeps) const;
   // Passes first .. of a group on the blocked fields, pass m over boxes[m].
   void blocked_passes(const Field& rhs, double factor, int first, const std::vector<Box>& boxes);
+  void wavefront(const Field& rhs, double factor, int first, const std::vector<Box>& boxes);
 
   const CartDecomposition& decomp_;
   Field& x_;
