@@ -454,12 +454,6 @@ def simulated_args(config):
     return args
 
 
-def blocking_of(text):
-    """SOR's sweeps between exchanges as a key: '' for the paper's pattern (1, or a row from
-    before the column) and for the other methods."""
-    return "" if text in (None, "", "1") else text
-
-
 def done_points(csv_path):
     """(experiment, method, comm, ns_per_step, ranks, simulated, halo, sweeps between exchanges)
     of the rows already in the CSV: a campaign stopped part-way goes on where it stopped."""
@@ -467,7 +461,7 @@ def done_points(csv_path):
         return set()
     with open(csv_path, newline="") as f:
         return {(r["experiment"], r["method"], r["comm"], r["ns_per_step"], r["ranks"], r["simulated"],
-                 r.get("halo", ""), blocking_of(r.get("sweeps_per_exchange")))
+                 r.get("halo", ""), paper_tables.blocking_label(r.get("sweeps_per_exchange")))
                 for r in csv.DictReader(f) if r.get("valid") == "1"}
 
 
@@ -498,7 +492,8 @@ def cmd_simulate(args):
                 drv_args = simulated_args(config) + ["--halo", args.halo]
                 ns = drv_args[drv_args.index("--ns") + 1] if "--ns" in drv_args else ""
                 spe = drv_args[drv_args.index("--sweeps-per-exchange") + 1] if "--sweeps-per-exchange" in drv_args else ""
-                key = (sweep.experiment, config.method, config.comm, ns, str(ranks), name, args.halo, blocking_of(spe))
+                key = (sweep.experiment, config.method, config.comm, ns, str(ranks), name, args.halo,
+                       paper_tables.blocking_label(spe))
                 runs.append((sweep, ranks, config, drv_args, extra, key in done))
     failed = 0
     for n, (sweep, ranks, config, drv_args, extra, skip) in enumerate(runs, 1):

@@ -1,6 +1,7 @@
 """The paper's tables as this repository keeps them (results/paper/paper_tables.csv): the one
-reader of its SOR sweep counts and the one spelling of a tolerance, for the campaign, the
-simulation's calibration and extrapolation, and the plots.
+reader of its SOR sweep counts, and the one spelling of a configuration's tolerance and of
+SOR's temporal blocking, for the campaign, the simulation's calibration and extrapolation,
+and the plots.
 
 Standard library only.
 """
@@ -18,6 +19,12 @@ def eps_label(text):
         return ""
     mant, exp = f"{float(text):.0e}".split("e")
     return f"{mant}e{int(exp)}"
+
+
+def blocking_label(text):
+    """SOR's sweeps between exchanges as a configuration tells it apart: '' for the paper's
+    pattern (1, or a row from before the CSV had the column) and for the other methods."""
+    return "" if text in (None, "", "1") else text
 
 
 def rows(path=PAPER_TABLES):

@@ -20,7 +20,7 @@ import statistics
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "harness"))
-from paper_tables import eps_label  # noqa: E402,F401  (one spelling of a tolerance)
+from paper_tables import blocking_label, eps_label  # noqa: E402,F401  (one spelling of each)
 
 REQUIRED = ("experiment", "method", "comm", "eps", "ranks", "threads", "px", "py", "pz", "nx", "ny", "nz",
             "steps", "elapsed_s", "comm_fraction", "valid", "host")
@@ -125,8 +125,7 @@ def read_rows(paths):
 
 def config_of(row):
     # A method that stops on a tolerance fills the eps column; the others leave it empty.
-    blocking = row.get("sweeps_per_exchange") or ""
-    return Config(row["method"], row["comm"], eps_label(row["eps"]), "" if blocking == "1" else blocking)
+    return Config(row["method"], row["comm"], eps_label(row["eps"]), blocking_label(row.get("sweeps_per_exchange")))
 
 
 def setup_of(row, experiment):

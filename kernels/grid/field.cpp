@@ -1,5 +1,6 @@
 #include "field.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <new>
 
@@ -85,6 +86,18 @@ void Field::copy_from(const Field& other) {
 #pragma omp parallel for schedule(static)
   for (std::ptrdiff_t k = 0; k < planes; ++k)
     for (std::ptrdiff_t m = 0; m < sz_; ++m) d[k * sz_ + m] = o[k * sz_ + m];
+}
+
+void Field::copy_owned_from(const Field& other) {
+  if (other.n_ != n_ || other.spec_.stagger != spec_.stagger)
+    throw ConfigError("Field::copy_owned_from: '" + other.name() + "' and '" + name() + "' hold different points");
+  const Int3& m = n_;
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < m[Z]; ++k)
+    for (int j = 0; j < m[Y]; ++j) {
+      const double* from = other.data() + other.index(0, j, k);
+      std::copy(from, from + m[X], data() + index(0, j, k));
+    }
 }
 
 }  // namespace efsi

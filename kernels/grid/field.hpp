@@ -86,6 +86,9 @@ class Field {
   void fill(double value);
   // Every point, ghosts included, from a field of the same layout (throws otherwise).
   void copy_from(const Field& other);
+  // The owned points alone from a field of the same extent and stagger, whatever its halo
+  // (throws otherwise); the ghosts stay as they are.
+  void copy_owned_from(const Field& other);
 
  private:
   FieldSpec spec_;

@@ -1,4 +1,4 @@
-// The Cartesian decomposition: choice of PX x PY x PZ, local blocks, neighbours, and
+// The Cartesian decomposition: choice of PX x PY x PZ, local blocks, neighbours, fields copied across halos, and
 // clear errors (on every rank, without hanging) for set-ups that cannot work.
 #include <gtest/gtest.h>
 #include <mpi.h>
@@ -7,10 +7,17 @@
 
 #include "config_error.hpp"
 #include "decomposition.hpp"
+#include "field.hpp"
 #include "mpi_test_support.hpp"
 
 using efsi::CartDecomposition;
 using efsi::ConfigError;
+using efsi::Field;
+using efsi::Stagger;
+using efsi::WallParity;
+using efsi::X;
+using efsi::Y;
+using efsi::Z;
 using efsi::Int3;
 
 using efsi::testing::config_error_of;
@@ -178,4 +185,26 @@ TEST(CartDecomposition, BadSetUpThrowsOnEveryRankWithoutHanging) {
     EXPECT_NE(indivisible.find("is not a multiple of Px=" + std::to_string(p)), std::string::npos) << indivisible;
   }
   MPI_Barrier(MPI_COMM_WORLD);
+}
+
+// The owned points cross between fields of different halos; the ghosts stay; another
+// extent or stagger is refused.
+TEST(Field, CopyOwnedFromAFieldOfAnotherHalo) {
+  CartDecomposition dec(MPI_COMM_WORLD, {24, 24, 24}, 3);
+  Field shallow(dec, {"shallow", Stagger::cell, 1, WallParity::even});
+  Field deep(dec, {"deep", Stagger::cell, 3, WallParity::even});
+  const Int3 n = dec.local();
+  shallow.fill(-1.0);
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) shallow(i, j, k) = i + 10.0 * j + 100.0 * k;
+  deep.fill(7.0);
+  deep.copy_owned_from(shallow);
+  for (int k = 0; k < n[Z]; ++k)
+    for (int j = 0; j < n[Y]; ++j)
+      for (int i = 0; i < n[X]; ++i) EXPECT_EQ(deep(i, j, k), i + 10.0 * j + 100.0 * k);
+  EXPECT_EQ(deep(-1, 0, 0), 7.0);
+  EXPECT_EQ(deep(0, 0, n[Z] + 2), 7.0);
+  Field face(dec, {"face", Stagger::face_x, 1, WallParity::odd});
+  EXPECT_THROW(face.copy_owned_from(shallow), ConfigError);
 }

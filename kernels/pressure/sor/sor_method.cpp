@@ -64,15 +64,15 @@ class SorSpec final : public MethodSpec {
     return {{"--eps", "SOR: the residual ratio that picks the calibrated N_S (1e-3 or 1e-4; default 1e-3), or the "
                       "target of --calibrate", false},
             {"--ns", "SOR sweeps per step N_S (overrides --eps)", true},
-            {"--sweeps-per-exchange", "SOR: K sweeps between two exchanges of ghosts K x 2 or 4 passes deep "
+            {"--sweeps-per-exchange", "SOR: K sweeps between two exchanges of ghosts 2K deep "
                                       "(temporal blocking, bitwise the same field; default 1: the paper's exchange "
                                       "after every colour pass)", true}};
   }
   int default_cn_sweeps() const override { return paper::kCnSweeps; }
   ScalingDefaults scaling_defaults() const override { return {paper::kSmacDt, paper::kSmacSteps}; }
   // The paper's pattern at each calibrated tolerance, then the same with temporal blocking
-  // (kCampaignSweepsPerExchange sweeps between exchanges: the ghosts 8 or 16 deep fit every
-  // block of the paper's sweeps), an extra series at the same N_S.
+  // (kCampaignSweepsPerExchange sweeps between exchanges: ghosts 8 deep fit every block of
+  // the paper's sweeps), an extra series at the same N_S.
   std::vector<CampaignVariant> campaign_variants() const override {
     std::vector<CampaignVariant> out;
     for (const auto& c : paper::kCalibratedSorSweeps) out.push_back({format_eps(c.eps), {"--eps", format_eps(c.eps)}});
@@ -114,8 +114,7 @@ class SorSpec final : public MethodSpec {
   IncrementWork increment_work(const MethodChoice& choice, const Int3&, const Int3& dims) const override {
     const double ns = choice.value("ns");
     const int passes = sor_passes_per_sweep(dims);
-    const auto k = choice.values.find("sweeps_per_exchange");
-    const int blocking = k == choice.values.end() ? 1 : static_cast<int>(k->second);
+    const int blocking = static_cast<int>(choice.value("sweeps_per_exchange"));
     if (blocking <= 1) return {kFill + ns * sor_sweep_cost(passes), passes * ns + 1};
     const double groups = std::ceil(ns / blocking), depth = 2.0 * blocking;
     return {kFill + ns * sor_sweep_cost(passes) + PerCell{48, 0}, (groups + 1) * depth + 1};
@@ -133,9 +132,8 @@ class SorSpec final : public MethodSpec {
   }
 
   std::unique_ptr<PressureMethod> make(const MethodChoice& choice, const MethodBuild& build) const override {
-    const auto k = choice.values.find("sweeps_per_exchange");
     return std::make_unique<SmacSorPressure>(build.comm, static_cast<int>(choice.value("ns")), paper::kSorOmega,
-                                             k == choice.values.end() ? 1 : static_cast<int>(k->second), build.halo);
+                                             static_cast<int>(choice.value("sweeps_per_exchange")), build.halo);
   }
 };
 

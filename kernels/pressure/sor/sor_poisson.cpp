@@ -384,21 +384,15 @@ void SorPoisson::blocked_sweeps(const Field& rhs, int n, double factor) {
   {
     RegionTimers::Scope t(timers_, Region::halo_pack);
     compute_stage(PerCell{32, 0}, double(owned_.volume()), [&] {
-      const Int3& m = owned_.hi;
-#pragma omp parallel for collapse(2) schedule(static)
-      for (int k = 0; k < m[Z]; ++k)
-        for (int j = 0; j < m[Y]; ++j) {
-          const double* xr = x_.data() + x_.index(0, j, k);
-          const double* rr = rhs.data() + rhs.index(0, j, k);
-          std::copy(xr, xr + m[X], &(*xw_)(0, j, k));
-          std::copy(rr, rr + m[X], &(*rw_)(0, j, k));
-        }
+      xw_->copy_owned_from(x_);
+      rw_->copy_owned_from(rhs);
     });
   }
   xs_ = xw_.get();
   HaloExchange* flight = wide_first_.get();
+  const std::vector<Box> full = group_boxes(k_), rest = n % k_ ? group_boxes(n % k_) : std::vector<Box>{};
   for (int done = 0; done < n; done += k_) {
-    const std::vector<Box> boxes = group_boxes(std::min(k_, n - done));
+    const std::vector<Box>& boxes = n - done >= k_ ? full : rest;
     if (comm_ == CommMode::sync || flight->messages_sent() == 0) {
       flight->exchange();
       blocked_passes(*rw_, factor, 0, boxes);
@@ -414,12 +408,7 @@ void SorPoisson::blocked_sweeps(const Field& rhs, int n, double factor) {
   xs_ = &x_;
   {
     RegionTimers::Scope t(timers_, Region::halo_pack);
-    compute_stage(PerCell{16, 0}, double(owned_.volume()), [&] {
-      const Int3& m = owned_.hi;
-#pragma omp parallel for collapse(2) schedule(static)
-      for (int k = 0; k < m[Z]; ++k)
-        for (int j = 0; j < m[Y]; ++j) std::copy(&(*xw_)(0, j, k), &(*xw_)(0, j, k) + m[X], &x_(0, j, k));
-    });
+    compute_stage(PerCell{16, 0}, double(owned_.volume()), [&] { x_.copy_owned_from(*xw_); });
   }
   halo_.exchange();
 }
